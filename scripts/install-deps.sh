@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs the Debian packages glint needs to build and test, if any are missing.
+# As root it runs apt-get; otherwise it prints the apt-get line to run.
+set -euo pipefail
+PACKAGES=(
+  cmake ninja-build g++ pkg-config
+  nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+if [ "$(id -u)" -ne 0 ]; then
+  echo "glint needs these Debian packages; run as root:" >&2
+  echo "  apt-get update && apt-get install -y ${missing[*]}" >&2
+  exit 1
+fi
+echo "installing: ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,45 @@
+// Accelerator: the two queries the integrator asks of the scene's geometry,
+// intersect (closest hit) and occluded (any hit, for shadow rays). Our BVH
+// answers them; other backends (Embree) plug in behind the same interface.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "glint/math/ray.h"
+#include "glint/scene/scene.h"
+
+namespace glint {
+
+// What traversal finds: enough to shade later, nothing more.
+struct Hit {
+  double t = kInfinity;
+  uint32_t object = 0;
+  double b1 = 0, b2 = 0;  // triangle barycentrics
+  int face = 0;           // box face
+};
+
+// One object against a world-space ray (object-space for transformed shapes
+// is handled inside). Fills `hit` and returns true when nearer than ray.t_max.
+bool intersect_object(const Scene& scene, uint32_t object, const Ray& ray, Hit& hit);
+
+class Accelerator {
+ public:
+  virtual ~Accelerator() = default;
+  virtual std::optional<Hit> intersect(const Ray& ray) const = 0;
+  virtual bool occluded(const Ray& ray) const = 0;
+  // The object hit first by an any-hit query, for tools that name a blocker.
+  virtual std::optional<uint32_t> first_blocker(const Ray& ray) const = 0;
+};
+
+struct AcceleratorOptions {
+  int threads = 0;
+};
+
+// Our SAH BVH over every finite object; infinite planes are tested apart.
+std::unique_ptr<Accelerator> build_accelerator(const Scene& scene,
+                                               const AcceleratorOptions& options = {});
+// Tests every object for every ray: the reference the BVH is checked against.
+std::unique_ptr<Accelerator> build_brute_force(const Scene& scene);
+
+}  // namespace glint

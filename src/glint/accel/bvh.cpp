@@ -1,0 +1,172 @@
+#include "glint/accel/bvh.h"
+
+#include <algorithm>
+#include <array>
+
+namespace glint {
+
+namespace {
+
+constexpr int kBins = 16;
+constexpr int kMaxDepth = 60;  // traversal stacks hold 64 entries
+
+struct PrimRef {
+  Bounds3 bounds;
+  Vec3 centroid;
+  uint32_t id;
+};
+
+// Float boxes that always contain the double box: round outward.
+float round_down(double v) {
+  float f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? std::nextafter(f, -INFINITY) : f;
+}
+float round_up(double v) {
+  float f = static_cast<float>(v);
+  return static_cast<double>(f) < v ? std::nextafter(f, INFINITY) : f;
+}
+
+class Builder {
+ public:
+  Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& options, Bvh& out)
+      : refs_(refs), options_(options), out_(out) {}
+
+  uint32_t build(size_t begin, size_t end, int depth) {
+    const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
+    out_.nodes.emplace_back();
+    Bounds3 bounds, centroids;
+    for (size_t i = begin; i < end; ++i) {
+      bounds.extend(refs_[i].bounds);
+      centroids.extend(refs_[i].centroid);
+    }
+    set_bounds(out_.nodes[index], bounds);
+    const size_t count = end - begin;
+
+    size_t mid = begin;
+    const int axis = centroids.longest_axis();
+    if (count == 1) return make_leaf(index, begin, end);
+    if (centroids.diagonal()[axis] <= 0.0) {
+      // All centroids coincide: no split separates them, so halve the list
+      // when it is too long for one leaf.
+      if (count <= static_cast<size_t>(options_.max_leaf_size)) return make_leaf(index, begin, end);
+      mid = begin + count / 2;
+      return make_interior(index, begin, mid, end, axis, depth);
+    }
+    if (depth >= kMaxDepth) {
+      // Degenerate distribution: an object-median split bounds the depth.
+      mid = begin + count / 2;
+      std::nth_element(refs_.begin() + begin, refs_.begin() + mid, refs_.begin() + end,
+                       [axis](const PrimRef& a, const PrimRef& b) {
+                         return a.centroid[axis] < b.centroid[axis];
+                       });
+      return make_interior(index, begin, mid, end, axis, depth);
+    }
+
+    // Binned SAH over all three axes.
+    double best_cost = kInfinity;
+    int best_axis = -1, best_split = -1;
+    for (int a = 0; a < 3; ++a) {
+      const double extent = centroids.hi[a] - centroids.lo[a];
+      if (extent <= 0.0) continue;
+      std::array<Bounds3, kBins> bin_bounds;
+      std::array<size_t, kBins> bin_count{};
+      const double scale = kBins / extent;
+      for (size_t i = begin; i < end; ++i) {
+        int b = std::min(kBins - 1, static_cast<int>((refs_[i].centroid[a] - centroids.lo[a]) * scale));
+        bin_count[b]++;
+        bin_bounds[b].extend(refs_[i].bounds);
+      }
+      // Sweep from the right to get the right-side areas, then from the left.
+      std::array<double, kBins> right_area{};
+      std::array<size_t, kBins> right_count{};
+      Bounds3 acc;
+      size_t n = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        acc.extend(bin_bounds[b]);
+        n += bin_count[b];
+        right_area[b] = acc.surface_area();
+        right_count[b] = n;
+      }
+      acc = Bounds3{};
+      n = 0;
+      for (int b = 0; b < kBins - 1; ++b) {
+        acc.extend(bin_bounds[b]);
+        n += bin_count[b];
+        if (n == 0 || right_count[b + 1] == 0) continue;
+        const double cost = acc.surface_area() * n + right_area[b + 1] * right_count[b + 1];
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_axis = a;
+          best_split = b;
+        }
+      }
+    }
+    // Leaf if splitting does not pay: traversal step costs about one primitive test.
+    const double leaf_cost = static_cast<double>(count);
+    const double split_cost = 1.0 + best_cost / bounds.surface_area();
+    if (best_axis < 0 || (count <= static_cast<size_t>(options_.max_leaf_size) && leaf_cost <= split_cost))
+      return make_leaf(index, begin, end);
+
+    const double lo = centroids.lo[best_axis];
+    const double scale = kBins / (centroids.hi[best_axis] - lo);
+    auto it = std::partition(refs_.begin() + begin, refs_.begin() + end, [&](const PrimRef& r) {
+      int b = std::min(kBins - 1, static_cast<int>((r.centroid[best_axis] - lo) * scale));
+      return b <= best_split;
+    });
+    mid = static_cast<size_t>(it - refs_.begin());
+    if (mid == begin || mid == end) mid = begin + count / 2;  // cannot happen, but never loop
+    return make_interior(index, begin, mid, end, best_axis, depth);
+  }
+
+ private:
+  uint32_t make_leaf(uint32_t index, size_t begin, size_t end) {
+    BvhNode& n = out_.nodes[index];
+    n.offset = static_cast<uint32_t>(out_.primitives.size());
+    n.count = static_cast<uint16_t>(end - begin);
+    n.axis = 0;
+    for (size_t i = begin; i < end; ++i) out_.primitives.push_back(refs_[i].id);
+    return index;
+  }
+
+  uint32_t make_interior(uint32_t index, size_t begin, size_t mid, size_t end, int axis, int depth) {
+    build(begin, mid, depth + 1);  // the first child lands at index + 1
+    const uint32_t second = build(mid, end, depth + 1);
+    BvhNode& n = out_.nodes[index];  // re-fetch: the vector may have grown
+    n.offset = second;
+    n.count = 0;
+    n.axis = static_cast<uint16_t>(axis);
+    return index;
+  }
+
+  static void set_bounds(BvhNode& n, const Bounds3& b) {
+    for (int a = 0; a < 3; ++a) {
+      n.lo[a] = round_down(b.lo[a]);
+      n.hi[a] = round_up(b.hi[a]);
+    }
+  }
+
+  std::vector<PrimRef>& refs_;
+  const BvhBuildOptions& options_;
+  Bvh& out_;
+};
+
+bool is_finite_box(const Bounds3& b) { return !b.empty() && is_finite(b.lo) && is_finite(b.hi); }
+
+}  // namespace
+
+Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options) {
+  std::vector<PrimRef> refs;
+  refs.reserve(bounds.size());
+  for (size_t i = 0; i < bounds.size(); ++i) {
+    if (!is_finite_box(bounds[i])) continue;
+    refs.push_back({bounds[i], bounds[i].center(), static_cast<uint32_t>(i)});
+  }
+  Bvh bvh;
+  if (refs.empty()) return bvh;
+  bvh.nodes.reserve(refs.size());
+  bvh.primitives.reserve(refs.size());
+  Builder(refs, options, bvh).build(0, refs.size(), 0);
+  return bvh;
+}
+
+}  // namespace glint

@@ -1,0 +1,509 @@
+#include "glint/io/scene_loader.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+#include "glint/io/json.h"
+
+namespace glint {
+
+namespace {
+
+using json::Value;
+using Keys = std::vector<std::string_view>;
+
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (same ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string quoted_list(const Keys& keys) {
+  std::string out;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (i) out += ", ";
+    out += "\"" + std::string(keys[i]) + "\"";
+  }
+  return out;
+}
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+// Reads one scene document. Each reader function takes the value and its
+// path in the document (for messages) and returns checked data.
+class SceneReader {
+ public:
+  SceneReader(const json::Document& doc, std::filesystem::path base_dir)
+      : doc_(doc), base_dir_(std::move(base_dir)) {}
+
+  Scene read() {
+    const Value root = doc_.root();
+    expect_object(root, "scene");
+    check_keys(root, "", {"render", "camera", "materials", "lights", "objects", "$schema"});
+    if (auto r = root.find("render")) read_render(*r);
+    read_camera(require(root, "", "camera"));
+    if (auto m = root.find("materials")) read_materials(*m);
+    if (auto l = root.find("lights")) read_lights(*l);
+    read_objects(require(root, "", "objects"));
+    return std::move(scene_);
+  }
+
+ private:
+  // --- errors and shapes of values -------------------------------------
+  [[noreturn]] void fail(const Value& at, const std::string& path, const std::string& what) const {
+    throw Error(at.location(), path.empty() ? what : path + ": " + what);
+  }
+
+  static std::string join(const std::string& path, std::string_view key) {
+    return path.empty() ? std::string(key) : path + "." + std::string(key);
+  }
+  static std::string index(const std::string& path, size_t i) {
+    return path + "[" + std::to_string(i) + "]";
+  }
+
+  void expect_object(const Value& v, const std::string& path) const {
+    if (!v.is_object()) fail(v, path, std::string("expected an object, got ") + v.kind_name());
+  }
+  void expect_array(const Value& v, const std::string& path) const {
+    if (!v.is_array()) fail(v, path, std::string("expected an array, got ") + v.kind_name());
+  }
+
+  // Every key must be one of `allowed`; an unknown one is an error with a hint.
+  void check_keys(const Value& obj, const std::string& path, const Keys& allowed) const {
+    for (size_t i = 0; i < obj.size(); ++i) {
+      const std::string_view key = obj.key(i);
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      std::string what = "unknown key \"" + std::string(key) + "\"";
+      const std::string hint = closest_match(key, allowed);
+      if (!hint.empty())
+        what += " (did you mean \"" + hint + "\"?)";
+      else
+        what += " (expected one of " + quoted_list(allowed) + ")";
+      throw Error(obj.key_location(i), path.empty() ? what : path + ": " + what);
+    }
+  }
+
+  Value require(const Value& obj, const std::string& path, std::string_view key) const {
+    if (auto v = obj.find(key)) return *v;
+    fail(obj, path.empty() ? "scene" : path, "missing required key \"" + std::string(key) + "\"");
+  }
+
+  double number(const Value& v, const std::string& path) const {
+    if (!v.is_number()) fail(v, path, std::string("expected a number, got ") + v.kind_name());
+    const double x = v.as_number();
+    if (!std::isfinite(x)) fail(v, path, "must be a finite number");
+    return x;
+  }
+  double positive(const Value& v, const std::string& path) const {
+    const double x = number(v, path);
+    if (!(x > 0)) fail(v, path, "must be > 0 (got " + format_number(x) + ")");
+    return x;
+  }
+  double non_negative(const Value& v, const std::string& path) const {
+    const double x = number(v, path);
+    if (!(x >= 0)) fail(v, path, "must be >= 0 (got " + format_number(x) + ")");
+    return x;
+  }
+  int integer(const Value& v, const std::string& path, int lo, int hi) const {
+    const double x = number(v, path);
+    if (!v.is_integer() || x != std::floor(x))
+      fail(v, path, "expected a whole number, got " + format_number(x));
+    if (x < lo) fail(v, path, "must be >= " + std::to_string(lo) + " (got " + format_number(x) + ")");
+    if (x > hi) fail(v, path, "must be <= " + std::to_string(hi) + " (got " + format_number(x) + ")");
+    return static_cast<int>(x);
+  }
+  bool boolean(const Value& v, const std::string& path) const {
+    if (!v.is_bool()) fail(v, path, std::string("expected true or false, got ") + v.kind_name());
+    return v.as_bool();
+  }
+  std::string string(const Value& v, const std::string& path) const {
+    if (!v.is_string()) fail(v, path, std::string("expected a string, got ") + v.kind_name());
+    return std::string(v.as_string());
+  }
+  // One of `names`, with a hint for near misses.
+  size_t choice(const Value& v, const std::string& path, const Keys& names, const char* what) const {
+    const std::string s = string(v, path);
+    for (size_t i = 0; i < names.size(); ++i)
+      if (names[i] == s) return i;
+    std::string msg = std::string("unknown ") + what + " \"" + s + "\"";
+    const std::string hint = closest_match(s, names);
+    msg += hint.empty() ? " (expected one of " + quoted_list(names) + ")" : " (did you mean \"" + hint + "\"?)";
+    fail(v, path, msg);
+  }
+
+  Vec3 vec3(const Value& v, const std::string& path) const {
+    if (!v.is_array() || v.size() != 3)
+      fail(v, path, std::string("expected [x, y, z], got ") +
+                        (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
+    return {number(v[0], index(path, 0)), number(v[1], index(path, 1)), number(v[2], index(path, 2))};
+  }
+  Vec3 direction(const Value& v, const std::string& path) const {
+    const Vec3 d = vec3(v, path);
+    const double len = length(d);
+    if (!(len > 0) || !std::isfinite(len)) fail(v, path, "must be a non-zero vector");
+    return d / len;
+  }
+  // A color: [r, g, b] or one number meaning gray; never negative.
+  Color color(const Value& v, const std::string& path) const {
+    Color c;
+    if (v.is_number()) {
+      c = Color(number(v, path));
+    } else if (v.is_array() && v.size() == 3) {
+      c = vec3(v, path);
+    } else {
+      fail(v, path, std::string("expected a color ([r, g, b] or a number), got ") +
+                        (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
+    }
+    if (c.x < 0 || c.y < 0 || c.z < 0) fail(v, path, "color components must be >= 0");
+    return c;
+  }
+
+  // --- sections ----------------------------------------------------------
+  void read_render(const Value& r) {
+    const std::string path = "render";
+    expect_object(r, path);
+    check_keys(r, path, {"width", "height", "samples_per_pixel", "max_depth", "shading_model", "background", "epsilon"});
+    RenderSettings& s = scene_.render;
+    if (auto v = r.find("width")) s.width = integer(*v, "render.width", 1, 1 << 20);
+    if (auto v = r.find("height")) s.height = integer(*v, "render.height", 1, 1 << 20);
+    if (auto v = r.find("samples_per_pixel"))
+      s.samples_per_pixel = integer(*v, "render.samples_per_pixel", 1, kMaxSamplesPerPixel);
+    if (auto v = r.find("max_depth")) s.max_depth = integer(*v, "render.max_depth", 1, kMaxDepthLimit);
+    if (auto v = r.find("shading_model"))
+      s.shading_model = choice(*v, "render.shading_model", {"phong", "blinn-phong"}, "shading model") == 0
+                            ? ShadingModel::phong
+                            : ShadingModel::blinn_phong;
+    if (auto v = r.find("background")) s.background = color(*v, "render.background");
+    if (auto v = r.find("epsilon")) s.epsilon = positive(*v, "render.epsilon");
+    SourceLocation where = r.location();
+    if (auto v = r.find("width")) where = v->location();
+    check_image_size(s.width, s.height, where);
+  }
+
+  void read_camera(const Value& c) {
+    const std::string path = "camera";
+    expect_object(c, path);
+    check_keys(c, path, {"type", "position", "look_at", "up", "fov_y", "view_height"});
+    Camera& cam = scene_.camera;
+    if (auto v = c.find("type"))
+      cam.type = choice(*v, "camera.type", {"perspective", "orthographic"}, "camera type") == 0
+                     ? CameraType::perspective
+                     : CameraType::orthographic;
+    cam.position = vec3(require(c, path, "position"), "camera.position");
+    const Value look_at = require(c, path, "look_at");
+    cam.look_at = vec3(look_at, "camera.look_at");
+    if (cam.look_at == cam.position) fail(look_at, "camera.look_at", "must differ from camera.position");
+    if (auto v = c.find("up")) cam.up = direction(*v, "camera.up");
+    if (auto v = c.find("fov_y")) {
+      cam.fov_y = number(*v, "camera.fov_y");
+      if (!(cam.fov_y > 0 && cam.fov_y < 180))
+        fail(*v, "camera.fov_y", "must be between 0 and 180 degrees, exclusive (got " + format_number(cam.fov_y) + ")");
+    }
+    if (auto v = c.find("view_height")) cam.view_height = positive(*v, "camera.view_height");
+    const Vec3 forward = normalize(cam.look_at - cam.position);
+    if (!(length(cross(forward, normalize(cam.up))) > 1e-9)) {
+      const auto up = c.find("up");
+      fail(up ? *up : c, up ? "camera.up" : "camera", "up is parallel to the view direction");
+    }
+  }
+
+  void read_materials(const Value& m) {
+    expect_object(m, "materials");
+    for (size_t i = 0; i < m.size(); ++i) {
+      const std::string name(m.key(i));
+      const std::string path = "materials." + name;
+      const Value v = m.member(i);
+      expect_object(v, path);
+      check_keys(v, path, {"ambient", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior", "fresnel"});
+      Material mat;
+      mat.name = name;
+      if (auto x = v.find("ambient")) mat.ambient = color(*x, join(path, "ambient"));
+      if (auto x = v.find("diffuse")) mat.diffuse = color(*x, join(path, "diffuse"));
+      if (auto x = v.find("specular")) mat.specular = color(*x, join(path, "specular"));
+      if (auto x = v.find("shininess")) mat.shininess = positive(*x, join(path, "shininess"));
+      if (auto x = v.find("reflectivity")) mat.reflectivity = color(*x, join(path, "reflectivity"));
+      if (auto x = v.find("transparency")) mat.transparency = non_negative(*x, join(path, "transparency"));
+      if (auto x = v.find("ior")) mat.ior = positive(*x, join(path, "ior"));
+      if (auto x = v.find("fresnel")) mat.fresnel = boolean(*x, join(path, "fresnel"));
+      material_index_[name] = add_material(scene_, std::move(mat));
+    }
+  }
+
+  void read_lights(const Value& list) {
+    expect_array(list, "lights");
+    for (size_t i = 0; i < list.size(); ++i) read_light(list[i], index("lights", i));
+  }
+
+  void read_light(const Value& v, const std::string& path) {
+    expect_object(v, path);
+    static const Keys types = {"point", "directional", "ambient", "spot", "area"};
+    const LightType kinds[] = {LightType::point, LightType::directional, LightType::ambient,
+                               LightType::spot, LightType::area};
+    Light light;
+    light.type = kinds[choice(require(v, path, "type"), join(path, "type"), types, "light type")];
+    const std::string type_name(types[static_cast<size_t>(
+        std::find(std::begin(kinds), std::end(kinds), light.type) - std::begin(kinds))]);
+
+    Keys allowed = {"type", "name", "ambient", "color"};
+    switch (light.type) {
+      case LightType::ambient: break;
+      case LightType::point: allowed.insert(allowed.end(), {"diffuse", "specular", "position", "attenuation"}); break;
+      case LightType::directional: allowed.insert(allowed.end(), {"diffuse", "specular", "direction"}); break;
+      case LightType::spot:
+        allowed.insert(allowed.end(), {"diffuse", "specular", "position", "direction", "cutoff", "falloff", "attenuation"});
+        break;
+      case LightType::area:
+        allowed.insert(allowed.end(), {"diffuse", "specular", "corner", "edge_u", "edge_v", "samples", "attenuation"});
+        break;
+    }
+    // Keys that belong to other light types get a precise message.
+    for (size_t k = 0; k < v.size(); ++k) {
+      const std::string_view key = v.key(k);
+      static const Keys any_light = {"diffuse", "specular", "position", "direction", "cutoff", "falloff",
+                                     "attenuation", "corner", "edge_u", "edge_v", "samples"};
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end() &&
+          std::find(any_light.begin(), any_light.end(), key) != any_light.end())
+        throw Error(v.key_location(k), join(path, key) + ": not valid for a " + type_name + " light");
+    }
+    check_keys(v, path, allowed);
+
+    if (auto x = v.find("name")) light.name = string(*x, join(path, "name"));
+    const auto col = v.find("color");
+    if (col && (v.find("diffuse") || v.find("specular")))
+      fail(*col, join(path, "color"), "give either \"color\" or \"diffuse\"/\"specular\", not both");
+    if (light.type == LightType::ambient) {
+      light.diffuse = light.specular = Color(0.0);
+      if (col && v.find("ambient")) fail(*col, join(path, "color"), "give either \"color\" or \"ambient\", not both");
+      if (col) light.ambient = color(*col, join(path, "color"));
+    } else if (col) {
+      light.diffuse = light.specular = color(*col, join(path, "color"));
+    }
+    if (auto x = v.find("ambient")) light.ambient = color(*x, join(path, "ambient"));
+    if (auto x = v.find("diffuse")) light.diffuse = color(*x, join(path, "diffuse"));
+    if (auto x = v.find("specular")) light.specular = color(*x, join(path, "specular"));
+
+    if (light.type == LightType::point || light.type == LightType::spot)
+      light.position = vec3(require(v, path, "position"), join(path, "position"));
+    if (light.type == LightType::directional || light.type == LightType::spot)
+      light.direction = direction(require(v, path, "direction"), join(path, "direction"));
+    if (light.type == LightType::spot) {
+      const Value c = require(v, path, "cutoff");
+      light.cutoff = number(c, join(path, "cutoff"));
+      if (!(light.cutoff > 0 && light.cutoff <= 180))
+        fail(c, join(path, "cutoff"), "must be in (0, 180] degrees (got " + format_number(light.cutoff) + ")");
+      if (auto x = v.find("falloff")) light.falloff = non_negative(*x, join(path, "falloff"));
+    }
+    if (light.type == LightType::area) {
+      light.corner = vec3(require(v, path, "corner"), join(path, "corner"));
+      const Value eu = require(v, path, "edge_u");
+      light.edge_u = vec3(eu, join(path, "edge_u"));
+      light.edge_v = vec3(require(v, path, "edge_v"), join(path, "edge_v"));
+      if (!(length(cross(light.edge_u, light.edge_v)) > 0))
+        fail(eu, join(path, "edge_u"), "edge_u and edge_v must span a parallelogram of non-zero area");
+      if (auto x = v.find("samples")) light.samples = integer(*x, join(path, "samples"), 1, kMaxAreaLightSamples);
+    }
+    if (auto x = v.find("attenuation")) {
+      const std::string p = join(path, "attenuation");
+      const Vec3 a = vec3(*x, p);
+      if (a.x < 0 || a.y < 0 || a.z < 0) fail(*x, p, "coefficients must be >= 0");
+      if (!(a.x > 0 || a.y > 0 || a.z > 0)) fail(*x, p, "at least one coefficient must be > 0");
+      light.attenuation = a;
+    }
+    scene_.lights.push_back(std::move(light));
+  }
+
+  std::optional<Transform> read_transform(const Value& v, const std::string& path) const {
+    expect_object(v, path);
+    check_keys(v, path, {"scale", "rotate", "translate", "matrix"});
+    Transform t;
+    if (auto m = v.find("matrix")) {
+      if (v.size() != 1)
+        fail(v, path, "\"matrix\" cannot be combined with \"scale\", \"rotate\" or \"translate\"");
+      const std::string p = join(path, "matrix");
+      if (!m->is_array() || m->size() != 16) fail(*m, p, "expected 16 numbers (a 4x4 matrix, row by row)");
+      double e[16];
+      for (size_t i = 0; i < 16; ++i) e[i] = number((*m)[i], index(p, i));
+      if (e[12] != 0 || e[13] != 0 || e[14] != 0 || e[15] != 1) fail(*m, p, "the last row must be 0 0 0 1");
+      Affine a;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) a[r][c] = e[4 * r + c];
+      auto xf = Transform::from_affine(a);
+      if (!xf) fail(*m, p, "the matrix is singular");
+      return xf;
+    }
+    if (auto s = v.find("scale")) {
+      const std::string p = join(path, "scale");
+      const Vec3 f = s->is_number() ? Vec3(number(*s, p)) : vec3(*s, p);
+      if (f.x == 0 || f.y == 0 || f.z == 0) fail(*s, p, "a zero scale makes the transform singular");
+      t = Transform::scale(f);
+    }
+    if (auto r = v.find("rotate")) {
+      const std::string p = join(path, "rotate");
+      expect_object(*r, p);
+      check_keys(*r, p, {"axis", "angle"});
+      const Vec3 axis = direction(require(*r, p, "axis"), join(p, "axis"));
+      const double angle = number(require(*r, p, "angle"), join(p, "angle"));
+      t = compose(Transform::rotate(axis, angle), t);
+    }
+    if (auto tr = v.find("translate")) t = compose(Transform::translate(vec3(*tr, join(path, "translate"))), t);
+    // Recheck: extreme scales can still make the composition numerically singular.
+    if (!Transform::from_affine(t.m)) fail(v, path, "the transform is singular");
+    return t;
+  }
+
+  void read_objects(const Value& list) {
+    expect_array(list, "objects");
+    scene_.objects.reserve(list.size());
+    for (size_t i = 0; i < list.size(); ++i) read_object(list[i], index("objects", i));
+  }
+
+  uint32_t material_ref(const Value& v, const std::string& path) const {
+    const std::string name = string(v, path);
+    auto it = material_index_.find(name);
+    if (it != material_index_.end()) return it->second;
+    Keys names;
+    for (const auto& [n, _] : material_index_) names.push_back(n);
+    std::string msg = "unknown material \"" + name + "\"";
+    const std::string hint = closest_match(name, names);
+    if (!hint.empty()) msg += " (did you mean \"" + hint + "\"?)";
+    else if (names.empty()) msg += " (the scene defines no materials)";
+    fail(v, path, msg);
+  }
+
+  void read_object(const Value& v, const std::string& path) {
+    expect_object(v, path);
+    static const Keys types = {"sphere", "plane", "triangle", "box", "mesh"};
+    const Value type_value = require(v, path, "type");
+    const size_t type = choice(type_value, join(path, "type"), types, "object type");
+    Keys allowed = {"type", "material", "transform", "name"};
+    switch (type) {
+      case 0: allowed.insert(allowed.end(), {"center", "radius"}); break;
+      case 1: allowed.insert(allowed.end(), {"point", "normal"}); break;
+      case 2: allowed.push_back("vertices"); break;
+      case 3: allowed.insert(allowed.end(), {"min", "max"}); break;
+      case 4: allowed.insert(allowed.end(), {"file", "smooth"}); break;
+    }
+    check_keys(v, path, allowed);
+    uint32_t material = 0;
+    if (auto m = v.find("material")) material = material_ref(*m, join(path, "material"));
+    std::optional<Transform> transform;
+    if (auto t = v.find("transform")) transform = read_transform(*t, join(path, "transform"));
+
+    uint32_t object = 0;
+    switch (type) {
+      case 0: {
+        Sphere s;
+        s.center = vec3(require(v, path, "center"), join(path, "center"));
+        s.radius = positive(require(v, path, "radius"), join(path, "radius"));
+        object = add_sphere(scene_, s, material, transform);
+        break;
+      }
+      case 1: {
+        Plane p;
+        p.point = vec3(require(v, path, "point"), join(path, "point"));
+        p.normal = direction(require(v, path, "normal"), join(path, "normal"));
+        object = add_plane(scene_, p, material, transform);
+        break;
+      }
+      case 2: {
+        const Value verts = require(v, path, "vertices");
+        const std::string p = join(path, "vertices");
+        if (!verts.is_array() || verts.size() != 3) fail(verts, p, "expected three vertices [[x,y,z], [x,y,z], [x,y,z]]");
+        Triangle t{vec3(verts[0], index(p, 0)), vec3(verts[1], index(p, 1)), vec3(verts[2], index(p, 2))};
+        if (!(length(cross(t.v1 - t.v0, t.v2 - t.v0)) > 0)) fail(verts, p, "degenerate triangle (zero area)");
+        object = add_triangle(scene_, t, material, transform);
+        const Triangle& w = scene_.triangles.back();
+        if (!(length(cross(w.v1 - w.v0, w.v2 - w.v0)) > 0)) fail(verts, p, "degenerate triangle after its transform");
+        break;
+      }
+      case 3: {
+        Box b;
+        b.lo = vec3(require(v, path, "min"), join(path, "min"));
+        const Value max_value = require(v, path, "max");
+        b.hi = vec3(max_value, join(path, "max"));
+        if (!(b.hi.x > b.lo.x && b.hi.y > b.lo.y && b.hi.z > b.lo.z))
+          fail(max_value, join(path, "max"), "must be greater than \"min\" on every axis (a box needs a positive size)");
+        object = add_box(scene_, b, material, transform);
+        break;
+      }
+      case 4:
+        fail(type_value, join(path, "type"), "mesh objects are not supported yet in this build");
+    }
+    if (auto n = v.find("name")) scene_.objects[object].name = string(*n, join(path, "name"));
+  }
+
+  const json::Document& doc_;
+  std::filesystem::path base_dir_;
+  Scene scene_;
+  std::map<std::string, uint32_t, std::less<>> material_index_;
+};
+
+}  // namespace
+
+std::string closest_match(std::string_view word, const std::vector<std::string_view>& candidates) {
+  std::string best;
+  size_t best_distance = std::max<size_t>(2, word.size() / 3) + 1;
+  for (std::string_view c : candidates) {
+    const size_t d = edit_distance(word, c);
+    if (d < best_distance) {
+      best_distance = d;
+      best = std::string(c);
+    }
+  }
+  return best;
+}
+
+void check_image_size(int width, int height, const SourceLocation& where) {
+  // The film holds 3 floats per pixel; refuse what this machine cannot hold
+  // rather than let the allocation fail (or the OOM killer strike) mid-render.
+  const double bytes = 12.0 * width * height;
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+  const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : 8e9;
+  if (bytes > 0.5 * memory) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "image of " << width << "x" << height << " pixels needs " << bytes / (1 << 30)
+        << " GiB, more than half of this machine's " << memory / (1 << 30) << " GiB of memory";
+    throw Error(where, msg.str());
+  }
+}
+
+Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir) {
+  const json::Document doc = json::parse(std::move(text), filename);
+  try {
+    return SceneReader(doc, base_dir).read();
+  } catch (const std::bad_alloc&) {
+    throw Error(SourceLocation{filename, 0, 0}, "out of memory while loading the scene");
+  }
+}
+
+Scene load_scene(const std::filesystem::path& path) {
+  const json::Document doc = json::parse_file(path.string());
+  try {
+    return SceneReader(doc, path.parent_path()).read();
+  } catch (const std::bad_alloc&) {
+    throw Error(SourceLocation{path.string(), 0, 0}, "out of memory while loading the scene");
+  }
+}
+
+}  // namespace glint

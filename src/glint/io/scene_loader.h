@@ -1,0 +1,35 @@
+// Scene loading: scene JSON text -> validated Scene, or a glint::Error that
+// names the file, line, column, the key's path and the problem. Everything the
+// contract calls out of domain (NaN/Inf, zero directions, non-positive sizes,
+// unknown keys, names and enum values) is rejected here, so later stages can
+// trust the Scene.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "glint/error.h"
+#include "glint/scene/scene.h"
+
+namespace glint {
+
+Scene load_scene(const std::filesystem::path& path);
+// `filename` is what messages name; relative paths inside resolve against base_dir.
+Scene parse_scene(std::string text, const std::string& filename,
+                  const std::filesystem::path& base_dir = {});
+
+// Limits the loader enforces beyond the contract, so no input can exhaust
+// memory or the stack; documented in docs/scene-format.md.
+inline constexpr int kMaxDepthLimit = 1000;
+inline constexpr int kMaxSamplesPerPixel = 1 << 16;
+inline constexpr int kMaxAreaLightSamples = 1 << 16;
+
+// Throws when a width x height float image would not fit in this machine's memory.
+void check_image_size(int width, int height, const SourceLocation& where);
+
+// The closest of `candidates` to `word` if it is a plausible typo, else "".
+std::string closest_match(std::string_view word, const std::vector<std::string_view>& candidates);
+
+}  // namespace glint

@@ -1,0 +1,213 @@
+#include "glint/render/integrator.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "glint/geometry/shapes.h"
+
+namespace glint {
+
+SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
+  const Object& object = scene.objects[hit.object];
+  SurfacePoint sp;
+  sp.material = object.material;
+  switch (object.type) {
+    case ShapeType::sphere: {
+      const Sphere& s = scene.spheres[object.shape];
+      Vec3 p_obj;
+      if (object.transform == kNoTransform) {
+        p_obj = ray.at(hit.t);
+      } else {
+        const Transform& xf = scene.transforms[object.transform];
+        p_obj = xf.inverse_point(ray.origin) + hit.t * xf.inverse_vector(ray.direction);
+      }
+      // Project back onto the sphere: removes the hit point's rounding error.
+      const Vec3 n_obj = normalize(p_obj - s.center);
+      p_obj = s.center + s.radius * n_obj;
+      if (object.transform == kNoTransform) {
+        sp.p = p_obj;
+        sp.geometric_normal = n_obj;
+      } else {
+        const Transform& xf = scene.transforms[object.transform];
+        sp.p = xf.point(p_obj);
+        sp.geometric_normal = normalize(xf.normal(n_obj));
+      }
+      break;
+    }
+    case ShapeType::box: {
+      Vec3 n_obj = box_face_normal(hit.face);
+      sp.p = ray.at(hit.t);
+      if (object.transform != kNoTransform) n_obj = scene.transforms[object.transform].normal(n_obj);
+      sp.geometric_normal = normalize(n_obj);
+      break;
+    }
+    case ShapeType::triangle: {
+      const Triangle& t = scene.triangles[object.shape];
+      const Vec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0;
+      sp.p = t.v0 + hit.b1 * e1 + hit.b2 * e2;
+      sp.geometric_normal = normalize(cross(e1, e2));
+      break;
+    }
+    case ShapeType::plane: {
+      const Plane& pl = scene.planes[object.shape];
+      sp.p = ray.at(hit.t);
+      sp.p -= dot(sp.p - pl.point, pl.normal) * pl.normal;  // onto the plane exactly
+      sp.geometric_normal = pl.normal;
+      break;
+    }
+  }
+  sp.shading_normal = sp.geometric_normal;
+  return sp;
+}
+
+Integrator::Integrator(const Scene& scene, const Accelerator& accel)
+    : scene_(scene), accel_(accel), epsilon_(scene.render.epsilon.value_or(auto_epsilon(scene))) {}
+
+Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx) const {
+  const std::optional<Hit> hit = accel_.intersect(ray);
+  if (!hit) return scene_.render.background;
+  return shade_surface(ray, *hit, depth, ctx).sum();
+}
+
+namespace {
+
+// Schlick's approximation of the Fresnel reflectance, per color channel.
+Color schlick(const Color& f0, double cos_theta) {
+  const double m = std::pow(1.0 - cos_theta, 5.0);
+  return f0 + (Color(1.0) - f0) * m;
+}
+
+}  // namespace
+
+void Integrator::add_light_sample(const Light& light, const Vec3& to_light, double shadow_t_max,
+                                  double distance, const SurfacePoint& sp, const Vec3& n,
+                                  const Vec3& v, const Vec3& shadow_origin, double weight,
+                                  ShadeTerms& out, TraceContext& ctx) const {
+  const Vec3 l = normalize(to_light);
+  const double n_dot_l = dot(n, l);
+  if (!(n_dot_l > 0.0)) return;
+
+  double scale = weight;
+  if (light.type == LightType::spot) {
+    const double cos_angle = -dot(l, light.direction);
+    // The cone's edge counts as inside; the tolerance absorbs rounding.
+    if (cos_angle < std::cos(light.cutoff * std::numbers::pi / 180.0) - 1e-12) return;
+    if (light.falloff != 0.0) scale *= std::pow(std::max(0.0, cos_angle), light.falloff);
+  }
+  if (light.type != LightType::directional) {
+    const Vec3& a = light.attenuation;
+    scale /= a.x + a.y * distance + a.z * distance * distance;
+  }
+
+  Ray shadow;
+  shadow.origin = shadow_origin;
+  shadow.direction = light.type == LightType::directional ? l : to_light + (sp.p - shadow_origin);
+  shadow.t_min = 0.0;
+  shadow.t_max = shadow_t_max;
+  ctx.stats.shadow++;
+  if (accel_.occluded(shadow)) return;
+
+  const Material& m = scene_.materials[sp.material];
+  out.diffuse += (scale * n_dot_l) * (m.diffuse * light.diffuse);
+  double s = 0.0;
+  if (scene_.render.shading_model == ShadingModel::phong) {
+    const Vec3 r = 2.0 * n_dot_l * n - l;
+    s = std::max(0.0, dot(r, v));
+  } else {
+    const Vec3 half = l + v;
+    const double len = length(half);
+    if (len > 0.0) s = std::max(0.0, dot(n, half / len));
+  }
+  if (s > 0.0) out.specular += (scale * std::pow(s, m.shininess)) * (m.specular * light.specular);
+}
+
+ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth,
+                                     TraceContext& ctx) const {
+  const SurfacePoint sp = evaluate_hit(scene_, ray, hit);
+  const Material& m = scene_.materials[sp.material];
+  const Vec3 d = normalize(ray.direction);
+  const Vec3 v = -d;
+  // Two-sided surfaces: shade with the normal on the viewer's side.
+  const bool entering = dot(sp.shading_normal, d) < 0.0;
+  const Vec3 n = entering ? sp.shading_normal : -sp.shading_normal;
+  const Vec3 ng = dot(sp.geometric_normal, d) < 0.0 ? sp.geometric_normal : -sp.geometric_normal;
+  // Secondary rays leave from just off the surface: shadow and reflected rays
+  // on the incoming side, refracted rays on the far side.
+  const Vec3 above = sp.p + epsilon_ * ng;
+  const Vec3 below = sp.p - epsilon_ * ng;
+
+  ShadeTerms out;
+  for (const Light& light : scene_.lights) {
+    out.ambient += m.ambient * light.ambient;
+    switch (light.type) {
+      case LightType::ambient:
+        break;
+      case LightType::point:
+      case LightType::spot: {
+        const Vec3 to_light = light.position - sp.p;
+        add_light_sample(light, to_light, 1.0, length(to_light), sp, n, v, above, 1.0, out, ctx);
+        break;
+      }
+      case LightType::directional:
+        add_light_sample(light, -light.direction, kInfinity, 0.0, sp, n, v, above, 1.0, out, ctx);
+        break;
+      case LightType::area: {
+        // Stratified jittered points on the parallelogram, one per cell of an
+        // nu x nv grid (nu * nv == samples), each a point light of weight 1/N.
+        int nu = static_cast<int>(std::sqrt(static_cast<double>(light.samples)));
+        while (light.samples % nu != 0) --nu;
+        const int nv = light.samples / nu;
+        const double weight = 1.0 / light.samples;
+        for (int j = 0; j < nv; ++j) {
+          for (int i = 0; i < nu; ++i) {
+            const double su = (i + ctx.rng.next_double()) / nu;
+            const double sv = (j + ctx.rng.next_double()) / nv;
+            const Vec3 pos = light.corner + su * light.edge_u + sv * light.edge_v;
+            const Vec3 to_light = pos - sp.p;
+            add_light_sample(light, to_light, 1.0, length(to_light), sp, n, v, above, weight, out, ctx);
+          }
+        }
+        break;
+      }
+    }
+  }
+
+  // Weights of the reflected and refracted rays (contract: materials, fresnel).
+  const double cos_theta = std::clamp(dot(v, n), 0.0, 1.0);
+  Color reflect_weight = m.reflectivity;
+  Color refract_weight(m.transparency);
+  if (m.fresnel) {
+    const double r0 = (m.ior - 1.0) / (m.ior + 1.0);
+    const double s_glass = schlick(Color(r0 * r0), cos_theta).x;
+    reflect_weight = schlick(m.reflectivity, cos_theta) + Color(m.transparency * s_glass);
+    refract_weight = Color(m.transparency * (1.0 - s_glass));
+  }
+  if (depth + 1 <= scene_.render.max_depth) {
+    Vec3 refracted_dir;
+    bool refracts = false;
+    if (!is_black(refract_weight)) {
+      // Snell's law; the inside has index ior, the outside 1.
+      const double eta = entering ? 1.0 / m.ior : m.ior;
+      const double k = 1.0 - eta * eta * (1.0 - cos_theta * cos_theta);
+      if (k < 0.0) {
+        reflect_weight += refract_weight;  // total internal reflection
+      } else {
+        refracted_dir = eta * d + (eta * cos_theta - std::sqrt(k)) * n;
+        refracts = true;
+      }
+    }
+    if (!is_black(reflect_weight)) {
+      ctx.stats.reflection++;
+      const Ray reflected{above, reflect(d, n)};
+      out.reflection = reflect_weight * cast_ray(reflected, depth + 1, ctx);
+    }
+    if (refracts) {
+      ctx.stats.refraction++;
+      const Ray refracted{below, refracted_dir};
+      out.transmission = refract_weight * cast_ray(refracted, depth + 1, ctx);
+    }
+  }
+  return out;
+}
+
+}  // namespace glint

@@ -1,0 +1,68 @@
+// Integrator: the shading contract of docs/scene-format.md, as two functions.
+// cast_ray finds the first hit (or the background); shade_surface sums, over
+// lights, ambient + unshadowed diffuse + specular (Phong or Blinn-Phong), then
+// adds the weighted reflected and refracted rays, recursively up to max_depth.
+#pragma once
+
+#include <cstdint>
+
+#include "glint/accel/accelerator.h"
+#include "glint/math/rng.h"
+#include "glint/scene/scene.h"
+
+namespace glint {
+
+struct RayStats {
+  uint64_t camera = 0, shadow = 0, reflection = 0, refraction = 0;
+  uint64_t total() const { return camera + shadow + reflection + refraction; }
+  RayStats& operator+=(const RayStats& o) {
+    camera += o.camera; shadow += o.shadow; reflection += o.reflection; refraction += o.refraction;
+    return *this;
+  }
+};
+
+// The hit, evaluated: where it is and which way the surface faces there.
+struct SurfacePoint {
+  Vec3 p;
+  Vec3 geometric_normal;  // unit, the shape's outward side (not yet flipped)
+  Vec3 shading_normal;    // unit, likewise
+  uint32_t material = 0;
+};
+SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit);
+
+// The parts of one shaded point, in the order the contract sums them.
+struct ShadeTerms {
+  Color ambient, diffuse, specular, reflection, transmission;
+  Color sum() const { return ambient + diffuse + specular + reflection + transmission; }
+};
+
+// Per-thread state a ray needs: random numbers (area lights) and counters.
+struct TraceContext {
+  Rng rng;
+  RayStats stats;
+};
+
+class Integrator {
+ public:
+  Integrator(const Scene& scene, const Accelerator& accel);
+
+  // Color seen along `ray`, a ray of the given depth (the camera ray is 1).
+  Color cast_ray(const Ray& ray, int depth, TraceContext& ctx) const;
+  ShadeTerms shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx) const;
+
+  double epsilon() const { return epsilon_; }
+
+ private:
+  // Diffuse + specular from a point source at `light_pos` (point, spot and
+  // area samples), or from a direction (`directional`), shadow ray included.
+  void add_light_sample(const Light& light, const Vec3& to_light, double shadow_t_max,
+                        double distance, const SurfacePoint& sp, const Vec3& n, const Vec3& v,
+                        const Vec3& shadow_origin, double weight, ShadeTerms& out,
+                        TraceContext& ctx) const;
+
+  const Scene& scene_;
+  const Accelerator& accel_;
+  double epsilon_;
+};
+
+}  // namespace glint

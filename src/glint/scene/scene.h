@@ -1,0 +1,122 @@
+// Scene: plain data describing what to render, as the scene file says it
+// (see docs/scene-format.md). No I/O and no rendering here: io/ fills a Scene,
+// accel/ and render/ read it. Everything refers to everything else by index.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glint/math/bounds.h"
+#include "glint/math/transform.h"
+
+namespace glint {
+
+enum class ShadingModel { phong, blinn_phong };
+
+struct RenderSettings {
+  int width = 640;
+  int height = 480;
+  int samples_per_pixel = 1;
+  int max_depth = 5;  // the camera ray is depth 1
+  ShadingModel shading_model = ShadingModel::phong;
+  Color background{0.0};
+  std::optional<double> epsilon;  // nullopt: scale-aware automatic value
+};
+
+enum class CameraType { perspective, orthographic };
+
+struct Camera {
+  CameraType type = CameraType::perspective;
+  Vec3 position{0, 0, 0};
+  Vec3 look_at{0, 0, -1};
+  Vec3 up{0, 1, 0};
+  double fov_y = 45.0;       // degrees, perspective
+  double view_height = 2.0;  // world units, orthographic
+};
+
+// The reflectances of the Phong model plus the recursive-ray weights.
+struct Material {
+  std::string name;
+  Color ambient{0.0};       // R_a
+  Color diffuse{0.8};       // R_d
+  Color specular{0.0};      // R_s
+  double shininess = 32.0;  // alpha
+  Color reflectivity{0.0};  // k
+  double transparency = 0.0;
+  double ior = 1.5;
+  bool fresnel = false;
+};
+
+enum class LightType { ambient, point, directional, spot, area };
+
+struct Light {
+  LightType type = LightType::point;
+  Color ambient{0.0};   // L_a
+  Color diffuse{1.0};   // L_d
+  Color specular{1.0};  // L_s
+  Vec3 position;        // point, spot
+  Vec3 direction{0, -1, 0};  // directional, spot: unit, the way light travels
+  double cutoff = 180.0;     // spot half-angle, degrees
+  double falloff = 0.0;      // spot exponent
+  Vec3 attenuation{1, 0, 0};  // 1 / (c + l d + q d^2)
+  Vec3 corner, edge_u, edge_v;  // area: the parallelogram corner + s edge_u + t edge_v
+  int samples = 16;             // area: shadow samples per shading point
+  std::string name;
+};
+
+enum class ShapeType { sphere, plane, triangle, box };
+
+struct Sphere { Vec3 center; double radius = 1.0; };
+struct Plane { Vec3 point; Vec3 normal{0, 1, 0}; };  // world space, unit normal
+struct Triangle { Vec3 v0, v1, v2; };                 // world space
+struct Box { Vec3 lo, hi; };                          // object space
+
+inline constexpr uint32_t kNoTransform = UINT32_MAX;
+
+// One object of the scene file. `shape` indexes the vector of its type;
+// `transform` indexes Scene::transforms (spheres and boxes keep theirs and are
+// intersected in object space; planes and triangles are baked into world space).
+struct Object {
+  ShapeType type = ShapeType::sphere;
+  uint32_t shape = 0;
+  uint32_t material = 0;
+  uint32_t transform = kNoTransform;
+  std::string name;  // optional; empty when the scene gave none
+};
+
+struct Scene {
+  RenderSettings render;
+  Camera camera;
+  std::vector<Material> materials;  // materials[0] is the default material
+  std::vector<Light> lights;
+  std::vector<Object> objects;
+  std::vector<Sphere> spheres;
+  std::vector<Plane> planes;
+  std::vector<Triangle> triangles;
+  std::vector<Box> boxes;
+  std::vector<Transform> transforms;
+
+  Scene();  // with the default material in place
+};
+
+// Building a scene in code (what the loader uses too). Each returns the new index.
+uint32_t add_material(Scene& scene, Material material);
+uint32_t add_sphere(Scene& scene, const Sphere& sphere, uint32_t material = 0,
+                    const std::optional<Transform>& transform = std::nullopt);
+uint32_t add_plane(Scene& scene, const Plane& plane, uint32_t material = 0,
+                   const std::optional<Transform>& transform = std::nullopt);
+uint32_t add_triangle(Scene& scene, const Triangle& triangle, uint32_t material = 0,
+                      const std::optional<Transform>& transform = std::nullopt);
+uint32_t add_box(Scene& scene, const Box& box, uint32_t material = 0,
+                 const std::optional<Transform>& transform = std::nullopt);
+
+// World-space bounds of a finite object (empty for planes).
+Bounds3 object_bounds(const Scene& scene, uint32_t object);
+
+// The automatic secondary-ray offset: a small fraction of the scene's size,
+// so it stays above double rounding error at any scale (see render/integrator.cpp).
+double auto_epsilon(const Scene& scene);
+
+}  // namespace glint
