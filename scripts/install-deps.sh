@@ -4,7 +4,7 @@
 set -euo pipefail
 PACKAGES=(
   cmake ninja-build g++ pkg-config
-  nlohmann-json3-dev libstb-dev libtinyexr-dev libcli11-dev
+  nlohmann-json3-dev libstb-dev libpng-dev libtinyexr-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 missing=()

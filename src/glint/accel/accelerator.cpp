@@ -5,15 +5,11 @@
 
 namespace glint {
 
-bool intersect_object(const Scene& scene, uint32_t index, const Ray& world_ray, Hit& hit) {
-  const Object& object = scene.objects[index];
-  Ray ray = world_ray;
-  if (object.transform != kNoTransform) {
-    // Same t in both spaces: the direction is mapped, not renormalized.
-    const Transform& xf = scene.transforms[object.transform];
-    ray.origin = xf.inverse_point(world_ray.origin);
-    ray.direction = xf.inverse_vector(world_ray.direction);
-  }
+namespace {
+
+// `ray` is in the object's own space.
+inline bool intersect_shape(const Scene& scene, const Object& object, uint32_t index, const Ray& ray,
+                            Hit& hit) {
   switch (object.type) {
     case ShapeType::sphere:
       if (auto t = intersect_sphere(scene.spheres[object.shape], ray)) {
@@ -43,6 +39,19 @@ bool intersect_object(const Scene& scene, uint32_t index, const Ray& world_ray, 
   return false;
 }
 
+}  // namespace
+
+bool intersect_object(const Scene& scene, uint32_t index, const Ray& world_ray, Hit& hit) {
+  const Object& object = scene.objects[index];
+  if (object.transform == kNoTransform) return intersect_shape(scene, object, index, world_ray, hit);
+  // Same t in both spaces: the direction is mapped, not renormalized.
+  const Transform& xf = scene.transforms[object.transform];
+  Ray ray = world_ray;
+  ray.origin = xf.inverse_point(world_ray.origin);
+  ray.direction = xf.inverse_vector(world_ray.direction);
+  return intersect_shape(scene, object, index, ray, hit);
+}
+
 namespace {
 
 class BvhAccelerator final : public Accelerator {
@@ -57,7 +66,7 @@ class BvhAccelerator final : public Accelerator {
     }
     BvhBuildOptions build_options;
     build_options.threads = options.threads;
-    bvh_ = build_bvh(bounds, build_options);
+    bvh_ = build_bvh(bounds, build_options, scene.camera.position);
   }
 
   std::optional<Hit> intersect(const Ray& world_ray) const override {

@@ -10,6 +10,13 @@ namespace {
 constexpr int kBins = 16;
 constexpr int kMaxDepth = 60;  // traversal stacks hold 64 entries
 
+// The binary tree the SAH build makes; collapsed into Bvh4Node afterwards.
+struct BinaryNode {
+  Bounds3 bounds;
+  uint32_t offset = 0;  // leaf: first primitive; interior: second child
+  uint32_t count = 0;   // 0: interior, first child = next node
+};
+
 struct PrimRef {
   Bounds3 bounds;
   Vec3 centroid;
@@ -26,9 +33,14 @@ float round_up(double v) {
   return static_cast<double>(f) < v ? std::nextafter(f, INFINITY) : f;
 }
 
+struct BinaryTree {
+  std::vector<BinaryNode> nodes;
+  std::vector<uint32_t> primitives;
+};
+
 class Builder {
  public:
-  Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& options, Bvh& out)
+  Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& options, BinaryTree& out)
       : refs_(refs), options_(options), out_(out) {}
 
   uint32_t build(size_t begin, size_t end, int depth) {
@@ -39,7 +51,7 @@ class Builder {
       bounds.extend(refs_[i].bounds);
       centroids.extend(refs_[i].centroid);
     }
-    set_bounds(out_.nodes[index], bounds);
+    out_.nodes[index].bounds = bounds;
     const size_t count = end - begin;
 
     size_t mid = begin;
@@ -120,10 +132,9 @@ class Builder {
 
  private:
   uint32_t make_leaf(uint32_t index, size_t begin, size_t end) {
-    BvhNode& n = out_.nodes[index];
+    BinaryNode& n = out_.nodes[index];
     n.offset = static_cast<uint32_t>(out_.primitives.size());
-    n.count = static_cast<uint16_t>(end - begin);
-    n.axis = 0;
+    n.count = static_cast<uint32_t>(end - begin);
     for (size_t i = begin; i < end; ++i) out_.primitives.push_back(refs_[i].id);
     return index;
   }
@@ -131,22 +142,84 @@ class Builder {
   uint32_t make_interior(uint32_t index, size_t begin, size_t mid, size_t end, int axis, int depth) {
     build(begin, mid, depth + 1);  // the first child lands at index + 1
     const uint32_t second = build(mid, end, depth + 1);
-    BvhNode& n = out_.nodes[index];  // re-fetch: the vector may have grown
+    BinaryNode& n = out_.nodes[index];  // re-fetch: the vector may have grown
     n.offset = second;
     n.count = 0;
-    n.axis = static_cast<uint16_t>(axis);
+    (void)axis;
     return index;
-  }
-
-  static void set_bounds(BvhNode& n, const Bounds3& b) {
-    for (int a = 0; a < 3; ++a) {
-      n.lo[a] = round_down(b.lo[a]);
-      n.hi[a] = round_up(b.hi[a]);
-    }
   }
 
   std::vector<PrimRef>& refs_;
   const BvhBuildOptions& options_;
+  BinaryTree& out_;
+};
+
+// Collapses the binary tree into 4-wide nodes: each 4-wide node takes a
+// binary node's children and keeps opening the largest interior one until it
+// has four.
+class Collapser {
+ public:
+  Collapser(const BinaryTree& tree, double pad, Bvh& out) : tree_(tree), pad_(pad), out_(out) {}
+
+  uint32_t collapse(uint32_t binary_index) {
+    const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
+    out_.nodes.emplace_back();
+    uint32_t slots[4];
+    int used = 0;
+    const BinaryNode& root = tree_.nodes[binary_index];
+    if (root.count > 0) {
+      slots[used++] = binary_index;  // a root that is a leaf: one leaf slot
+    } else {
+      slots[used++] = binary_index + 1;
+      slots[used++] = root.offset;
+      while (used < 4) {
+        int best = -1;
+        double best_area = -1;
+        for (int i = 0; i < used; ++i) {
+          const BinaryNode& n = tree_.nodes[slots[i]];
+          if (n.count == 0 && n.bounds.surface_area() > best_area) {
+            best_area = n.bounds.surface_area();
+            best = i;
+          }
+        }
+        if (best < 0) break;
+        const BinaryNode& n = tree_.nodes[slots[best]];
+        const uint32_t first = slots[best] + 1, second = n.offset;
+        slots[best] = first;
+        slots[used++] = second;
+      }
+    }
+    uint32_t child[4] = {0, 0, 0, 0}, count[4] = {0, 0, 0, 0};
+    for (int i = 0; i < used; ++i) {
+      const BinaryNode& n = tree_.nodes[slots[i]];
+      if (n.count > 0) {
+        child[i] = n.offset;
+        count[i] = n.count;
+      } else {
+        child[i] = collapse(slots[i]);
+      }
+    }
+    Bvh4Node& node = out_.nodes[index];  // re-fetch: the vector may have grown
+    for (int i = 0; i < 4; ++i) {
+      node.child[i] = child[i];
+      node.count[i] = count[i];
+      for (int a = 0; a < 3; ++a) {
+        if (i < used) {
+          const Bounds3& b = tree_.nodes[slots[i]].bounds;
+          node.bounds[2 * a][i] = round_down(b.lo[a] - pad_);
+          node.bounds[2 * a + 1][i] = round_up(b.hi[a] + pad_);
+        } else {
+          node.bounds[2 * a][i] = INFINITY;  // empty: never hit
+          node.bounds[2 * a + 1][i] = -INFINITY;
+        }
+      }
+    }
+    return index;
+  }
+
+ private:
+  const BinaryTree& tree_;
+  double pad_;
   Bvh& out_;
 };
 
@@ -154,18 +227,30 @@ bool is_finite_box(const Bounds3& b) { return !b.empty() && is_finite(b.lo) && i
 
 }  // namespace
 
-Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options) {
+Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, const Vec3& origin_hint) {
   std::vector<PrimRef> refs;
   refs.reserve(bounds.size());
+  Bounds3 scene;
   for (size_t i = 0; i < bounds.size(); ++i) {
     if (!is_finite_box(bounds[i])) continue;
     refs.push_back({bounds[i], bounds[i].center(), static_cast<uint32_t>(i)});
+    scene.extend(bounds[i]);
   }
   Bvh bvh;
   if (refs.empty()) return bvh;
-  bvh.nodes.reserve(refs.size());
-  bvh.primitives.reserve(refs.size());
-  Builder(refs, options, bvh).build(0, refs.size(), 0);
+  BinaryTree tree;
+  tree.nodes.reserve(2 * refs.size());
+  tree.primitives.reserve(refs.size());
+  Builder(refs, options, tree).build(0, refs.size(), 0);
+  refs = {};
+  // Rays are tested in float: pad boxes by more than the float rounding of
+  // coordinates as large as the scene's (and the camera's) farthest point.
+  const double extent = std::max({max_abs_component(scene.lo), max_abs_component(scene.hi),
+                                  max_abs_component(origin_hint), 1e-30});
+  const double pad = extent * 0x1p-20;
+  bvh.nodes.reserve(tree.nodes.size() / 2 + 1);
+  Collapser(tree, pad, bvh).collapse(0);
+  bvh.primitives = std::move(tree.primitives);
   return bvh;
 }
 

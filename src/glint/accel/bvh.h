@@ -1,8 +1,11 @@
-// Bvh: our bounding volume hierarchy. A flat vector of 32-byte nodes built by
-// binned SAH, plus the primitive indices reordered so each leaf is a range.
-// It knows only boxes; callers pass the per-primitive intersection test, so
-// one traversal serves spheres, boxes and triangles alike.
+// Bvh: our bounding volume hierarchy. Built by binned SAH as a binary tree,
+// then collapsed into 4-wide nodes whose four child boxes are tested at once
+// with SSE. Leaves are ranges of a reordered primitive-index array. It knows
+// only boxes: callers pass the per-primitive test, so one traversal serves
+// spheres, boxes and triangles alike.
 #pragma once
+
+#include <immintrin.h>
 
 #include <cmath>
 #include <cstdint>
@@ -10,90 +13,117 @@
 #include <vector>
 
 #include "glint/math/bounds.h"
+#include "glint/math/ray.h"
 
 namespace glint {
 
-struct BvhNode {
-  float lo[3];
-  uint32_t offset;  // leaf: first index into Bvh::primitives; interior: second child
-  float hi[3];
-  uint16_t count;   // primitives in a leaf; 0 for an interior node (first child = next node)
-  uint16_t axis;    // interior: split axis, for front-to-back order
+// Four child boxes in SoA layout (bounds[axis*2 + 0/1][child] = lo/hi).
+// child[i] is a node index when count[i] == 0, else the first primitive of
+// a leaf of count[i] primitives; unused slots have an empty box.
+struct alignas(64) Bvh4Node {
+  float bounds[6][4];
+  uint32_t child[4];
+  uint32_t count[4];
 };
-static_assert(sizeof(BvhNode) == 32);
+static_assert(sizeof(Bvh4Node) == 128);
 
 struct BvhBuildOptions {
-  int max_leaf_size = 8;
+  int max_leaf_size = 4;
   int threads = 0;  // 0: all cores
 };
 
 struct Bvh {
-  std::vector<BvhNode> nodes;
+  std::vector<Bvh4Node> nodes;       // nodes[0] is the root
   std::vector<uint32_t> primitives;  // leaf ranges index this; values are caller's ids
-
   bool empty() const { return nodes.empty(); }
 };
 
 // Builds over primitive i = 0..bounds.size()-1 with the given world bounds.
-// Primitives with empty or non-finite bounds are left out.
-Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options = {});
+// Primitives with empty or non-finite bounds are left out. Node boxes are
+// float, rounded outward and padded by ~1e-6 of the scene's extent (origin
+// included), so the float slab test never misses what the double tests hit.
+Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options = {},
+              const Vec3& origin_hint = Vec3(0.0));
 
-// Per-ray constants for the slab test.
-struct RaySlabs {
-  Vec3 origin, inv_dir;
-  int dir_negative[3];
-  explicit RaySlabs(const Ray& ray) : origin(ray.origin) {
+// Per-ray constants for the 4-wide slab test.
+struct RaySlabs4 {
+  __m128 origin[3], inv_dir[3];
+  int near_lo[3];  // row of bounds[] holding the near plane per axis
+  explicit RaySlabs4(const Ray& ray) {
     for (int a = 0; a < 3; ++a) {
-      inv_dir[a] = 1.0 / ray.direction[a];
+      const float inv = static_cast<float>(1.0 / ray.direction[a]);
+      origin[a] = _mm_set1_ps(static_cast<float>(ray.origin[a]));
+      inv_dir[a] = _mm_set1_ps(inv);
       // From the inverse, so a direction of -0.0 (inverse -inf) counts as negative.
-      dir_negative[a] = inv_dir[a] < 0.0;
+      near_lo[a] = std::signbit(inv) ? 1 : 0;
     }
   }
 };
 
-// Entry distance of the ray into the node's box if it overlaps (t_min, t_max).
-inline bool hit_node(const BvhNode& n, const RaySlabs& r, double t_min, double t_max) {
+// Bit i set when the ray overlaps child i within (t_min, t_max); `t_near`
+// gets the entry distances.
+inline int hit_children(const Bvh4Node& n, const RaySlabs4& r, float t_min, float t_max, __m128& t_near) {
+  __m128 lo_t = _mm_set1_ps(t_min), hi_t = _mm_set1_ps(t_max);
   for (int a = 0; a < 3; ++a) {
-    double t0 = (static_cast<double>(n.lo[a]) - r.origin[a]) * r.inv_dir[a];
-    double t1 = (static_cast<double>(n.hi[a]) - r.origin[a]) * r.inv_dir[a];
-    if (r.dir_negative[a]) std::swap(t0, t1);
-    // Written so a NaN (origin on a slab of a parallel ray) keeps the box.
-    t_min = t0 > t_min ? t0 : t_min;
-    t_max = t1 < t_max ? t1 : t_max;
+    const __m128 near_plane = _mm_load_ps(n.bounds[2 * a + r.near_lo[a]]);
+    const __m128 far_plane = _mm_load_ps(n.bounds[2 * a + 1 - r.near_lo[a]]);
+    const __m128 t0 = _mm_mul_ps(_mm_sub_ps(near_plane, r.origin[a]), r.inv_dir[a]);
+    const __m128 t1 = _mm_mul_ps(_mm_sub_ps(far_plane, r.origin[a]), r.inv_dir[a]);
+    // maxps/minps return the second operand when one is NaN (origin on a slab
+    // of a parallel ray): the running interval wins, keeping the box.
+    lo_t = _mm_max_ps(t0, lo_t);
+    hi_t = _mm_min_ps(t1, hi_t);
   }
-  return t_min <= t_max;
+  // Widen the far end by a few float ulps: the slab arithmetic rounds.
+  hi_t = _mm_mul_ps(hi_t, _mm_set1_ps(1.0f + 4.0f * 0x1p-23f));
+  t_near = lo_t;
+  return _mm_movemask_ps(_mm_cmple_ps(lo_t, hi_t));
+}
+
+inline float clamp_to_float(double t) {
+  return t >= 3.0e38 ? INFINITY : static_cast<float>(t);
 }
 
 // Closest hit: `intersect(prim, ray)` returns true and shrinks ray.t_max when
-// the primitive is hit nearer than ray.t_max.
+// the primitive is hit nearer than ray.t_max. Children are visited near to far.
 template <class IntersectFn>
 bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
   if (bvh.nodes.empty()) return false;
-  const RaySlabs slabs(ray);
-  uint32_t stack[64];
+  const RaySlabs4 slabs(ray);
+  struct Entry { uint32_t child, count; float t; };
+  Entry stack[256];
   int top = 0;
-  uint32_t node = 0;
   bool found = false;
-  while (true) {
-    const BvhNode& n = bvh.nodes[node];
-    if (hit_node(n, slabs, ray.t_min, ray.t_max)) {
-      if (n.count > 0) {
-        for (uint32_t i = 0; i < n.count; ++i)
-          found |= intersect(bvh.primitives[n.offset + i], ray);
-      } else {
-        // Visit the child on the ray's near side first so t_max shrinks early.
-        if (slabs.dir_negative[n.axis]) {
-          stack[top++] = node + 1;
-          node = n.offset;
-        } else {
-          stack[top++] = n.offset;
-          node = node + 1;
-        }
-        continue;
-      }
+  const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
+  stack[top++] = {0, 0, -INFINITY};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.t > clamp_to_float(ray.t_max) * (1.0f + 0x1p-20f)) continue;  // a nearer hit was found since
+    if (e.count > 0) {
+      for (uint32_t i = 0; i < e.count; ++i) found |= intersect(bvh.primitives[e.child + i], ray);
+      continue;
     }
-    if (top == 0) break;
-    node = stack[--top];
+    const Bvh4Node& n = bvh.nodes[e.child];
+    __m128 t_near;
+    int mask = hit_children(n, slabs, t_min, clamp_to_float(ray.t_max), t_near);
+    if (!mask) continue;
+    alignas(16) float t[4];
+    _mm_store_ps(t, t_near);
+    // Push far to near so the nearest child is popped first.
+    Entry hits[4];
+    int k = 0;
+    while (mask) {
+      const int i = __builtin_ctz(mask);
+      mask &= mask - 1;
+      Entry h{n.child[i], n.count[i], t[i]};
+      int j = k++;
+      while (j > 0 && hits[j - 1].t < h.t) {
+        hits[j] = hits[j - 1];
+        --j;
+      }
+      hits[j] = h;
+    }
+    for (int i = 0; i < k; ++i) stack[top++] = hits[i];
   }
   return found;
 }
@@ -102,24 +132,28 @@ bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
 template <class HitsFn>
 bool traverse_any(const Bvh& bvh, const Ray& ray, HitsFn&& hits) {
   if (bvh.nodes.empty()) return false;
-  const RaySlabs slabs(ray);
-  uint32_t stack[64];
+  const RaySlabs4 slabs(ray);
+  struct Entry { uint32_t child, count; };
+  Entry stack[256];
   int top = 0;
-  uint32_t node = 0;
-  while (true) {
-    const BvhNode& n = bvh.nodes[node];
-    if (hit_node(n, slabs, ray.t_min, ray.t_max)) {
-      if (n.count > 0) {
-        for (uint32_t i = 0; i < n.count; ++i)
-          if (hits(bvh.primitives[n.offset + i], ray)) return true;
-      } else {
-        stack[top++] = n.offset;
-        node = node + 1;
-        continue;
-      }
+  const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
+  const float t_max = clamp_to_float(ray.t_max);
+  stack[top++] = {0, 0};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.count > 0) {
+      for (uint32_t i = 0; i < e.count; ++i)
+        if (hits(bvh.primitives[e.child + i], ray)) return true;
+      continue;
     }
-    if (top == 0) break;
-    node = stack[--top];
+    const Bvh4Node& n = bvh.nodes[e.child];
+    __m128 t_near;
+    int mask = hit_children(n, slabs, t_min, t_max, t_near);
+    while (mask) {
+      const int i = __builtin_ctz(mask);
+      mask &= mask - 1;
+      stack[top++] = {n.child[i], n.count[i]};
+    }
   }
   return false;
 }

@@ -5,6 +5,7 @@
 
 #include <fcntl.h>
 #include <stb_image.h>
+#include <png.h>
 #include <stb_image_write.h>
 #include <sys/stat.h>
 #include <tinyexr.h>
@@ -114,18 +115,68 @@ void stb_append(void* context, void* data, int size) noexcept {
   }
 }
 
-Bytes encode_stb(const Image& image, ImageFormat format) {
+Bytes encode_jpg(const Image& image) {
   const Bytes pixels = srgb8_pixels(image);
   StbSink sink;
-  const int ok = format == ImageFormat::png
-                     ? stbi_write_png_to_func(stb_append, &sink, image.width, image.height, 3,
-                                              pixels.data(), 3 * image.width)
-                     : stbi_write_jpg_to_func(stb_append, &sink, image.width, image.height, 3,
-                                              pixels.data(), 95);
+  const int ok = stbi_write_jpg_to_func(stb_append, &sink, image.width, image.height, 3, pixels.data(), 95);
   if (sink.failed) throw std::bad_alloc();
-  if (!ok || sink.bytes.empty()) {
-    throw std::runtime_error(format == ImageFormat::png ? "PNG encoding failed" : "JPEG encoding failed");
+  if (!ok || sink.bytes.empty()) throw std::runtime_error("JPEG encoding failed");
+  return std::move(sink.bytes);
+}
+
+// libpng reports errors by longjmp: nothing with a destructor may be created
+// between setjmp and the calls that can fail, and nothing may throw through it.
+struct PngSink {
+  Bytes bytes;
+  bool failed = false;
+  const char* message = "PNG encoding failed";
+};
+
+void png_append(png_structp png, png_bytep data, size_t size) noexcept {
+  auto* sink = static_cast<PngSink*>(png_get_io_ptr(png));
+  if (sink->failed) return;
+  try {
+    sink->bytes.insert(sink->bytes.end(), data, data + size);
+  } catch (...) {
+    sink->failed = true;
   }
+}
+void png_flush_nothing(png_structp) noexcept {}
+void png_fail(png_structp png, png_const_charp message) {
+  static_cast<PngSink*>(png_get_error_ptr(png))->message = message;
+  png_longjmp(png, 1);
+}
+void png_ignore_warning(png_structp, png_const_charp) {}
+
+// libpng at zlib level 1 with the Up filter: measured 7x faster than
+// stb_image_write on a 1080p render, files ~40% larger (see README).
+Bytes encode_png(const Image& image) {
+  const Bytes pixels = srgb8_pixels(image);
+  PngSink sink;
+  sink.bytes.reserve(pixels.size() / 4);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, png_fail, png_ignore_warning);
+  if (!png) throw std::bad_alloc();
+  png_infop info = png_create_info_struct(png);
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::bad_alloc();
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error(sink.message);
+  }
+  png_set_write_fn(png, &sink, png_append, png_flush_nothing);
+  png_set_compression_level(png, 1);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
+               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  const size_t stride = 3 * static_cast<size_t>(image.width);
+  for (int y = 0; y < image.height; ++y)
+    png_write_row(png, const_cast<png_bytep>(pixels.data() + stride * static_cast<size_t>(y)));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  if (sink.failed) throw std::bad_alloc();
   return std::move(sink.bytes);
 }
 
@@ -231,11 +282,12 @@ void write_file_atomically(const fs::path& target, std::span<const unsigned char
   for (int attempt = 0; attempt < 100 && temp.fd < 0; ++attempt) {
     fs::path candidate = folder / (prefix + std::to_string(counter++));
     const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    const int error = errno;  // before any string building can disturb it
     if (fd >= 0) {
       temp.path = std::move(candidate);
       temp.fd = fd;
-    } else if (errno != EEXIST) {
-      fail_write(target, "cannot create a temporary file in '" + folder.string() + "': " + errno_message(errno));
+    } else if (error != EEXIST) {
+      fail_write(target, "cannot create a temporary file in '" + folder.string() + "': " + errno_message(error));
     }
   }
   if (temp.fd < 0) fail_write(target, "cannot create a temporary file in '" + folder.string() + "'");
@@ -530,7 +582,21 @@ float srgb_decode(float encoded) {
 }
 
 std::uint8_t to_srgb8(float linear) {
-  return static_cast<std::uint8_t>(std::lround(srgb_encode(linear) * 255.0f));
+  // The code k is round(encode(linear) * 255): the number of code boundaries
+  // decode((k + 0.5) / 255) at or below `linear`. A binary search over that
+  // table is exact and far cheaper than pow() per channel.
+  static const std::array<float, 255> boundaries = [] {
+    std::array<float, 255> b{};
+    for (int k = 0; k < 255; ++k) {
+      const double e = (k + 0.5) / 255.0;
+      const double linear_value = e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
+      b[k] = static_cast<float>(linear_value);
+    }
+    return b;
+  }();
+  if (!(linear > 0.0f)) return 0;  // also NaN
+  return static_cast<std::uint8_t>(std::upper_bound(boundaries.begin(), boundaries.end(), linear) -
+                                   boundaries.begin());
 }
 
 void write_image(const Image& image, const fs::path& path) {
@@ -558,8 +624,10 @@ void write_image(const Image& image, const fs::path& path) {
         write_file_atomically(path, encode_pfm(image));
         break;
       case ImageFormat::png:
+        write_file_atomically(path, encode_png(image));
+        break;
       case ImageFormat::jpg:
-        write_file_atomically(path, encode_stb(image, *format));
+        write_file_atomically(path, encode_jpg(image));
         break;
       case ImageFormat::exr: {
         const MallocBytes exr = encode_exr(image);

@@ -1,5 +1,10 @@
 #include "glint/io/scene_loader.h"
 
+// GCC 12 warns falsely about std::string concatenation at -O3 (GCC bug 105329).
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12
+#pragma GCC diagnostic ignored "-Wrestrict"
+#endif
+
 #include <unistd.h>
 
 #include <cmath>
@@ -449,7 +454,7 @@ class SceneReader {
       case 4:
         fail(type_value, join(path, "type"), "mesh objects are not supported yet in this build");
     }
-    if (auto n = v.find("name")) scene_.objects[object].name = string(*n, join(path, "name"));
+    if (auto n = v.find("name")) scene_.object_names[object] = string(*n, join(path, "name"));
   }
 
   const json::Document& doc_;

@@ -77,6 +77,22 @@ Color schlick(const Color& f0, double cos_theta) {
   return f0 + (Color(1.0) - f0) * m;
 }
 
+// x^alpha. Whole exponents (the usual 32, 100, ...) by repeated squaring:
+// several times cheaper than std::pow, within a few ulps of it.
+double shininess_pow(double x, double alpha) {
+  if (alpha <= 65536.0 && alpha == std::floor(alpha)) {
+    auto n = static_cast<uint32_t>(alpha);
+    double result = 1.0;
+    while (n) {
+      if (n & 1u) result *= x;
+      x *= x;
+      n >>= 1u;
+    }
+    return result;
+  }
+  return std::pow(x, alpha);
+}
+
 }  // namespace
 
 void Integrator::add_light_sample(const Light& light, const Vec3& to_light, double shadow_t_max,
@@ -118,7 +134,8 @@ void Integrator::add_light_sample(const Light& light, const Vec3& to_light, doub
     const double len = length(half);
     if (len > 0.0) s = std::max(0.0, dot(n, half / len));
   }
-  if (s > 0.0) out.specular += (scale * std::pow(s, m.shininess)) * (m.specular * light.specular);
+  if (s > 0.0 && !is_black(m.specular * light.specular))
+    out.specular += (scale * shininess_pow(s, m.shininess)) * (m.specular * light.specular);
 }
 
 ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth,

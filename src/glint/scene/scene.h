@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "glint/math/bounds.h"
@@ -83,7 +84,6 @@ struct Object {
   uint32_t shape = 0;
   uint32_t material = 0;
   uint32_t transform = kNoTransform;
-  std::string name;  // optional; empty when the scene gave none
 };
 
 struct Scene {
@@ -97,6 +97,9 @@ struct Scene {
   std::vector<Triangle> triangles;
   std::vector<Box> boxes;
   std::vector<Transform> transforms;
+  // Names the scene file gave objects (most have none; kept apart so Object
+  // stays 16 bytes for scenes of millions of objects).
+  std::unordered_map<uint32_t, std::string> object_names;
 
   Scene();  // with the default material in place
 };
