@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +13,8 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "glint/accel/accelerator.h"
 #include "glint/error.h"
@@ -55,6 +59,51 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+// Prints `error: <what>` as exactly one line, whatever `what` holds (a file
+// name from the command line may contain a line break).
+void print_error(const std::string& what) {
+  std::string line;
+  for (char c : what) {
+    if (c == '\n') line += "\\n";
+    else if (c == '\r') line += "\\r";
+    else line += c;
+  }
+  std::fprintf(stderr, "error: %s\n", line.c_str());
+}
+
+// A whole number in [lo, hi]; CLI11's Range alone calls "abc" out of range.
+CLI::Validator whole_number_in(long long lo, long long hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        long long value = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+        if (text.empty() || ec == std::errc::invalid_argument || ptr != end)
+          return "expected a whole number, got \"" + text + "\"";
+        if (ec == std::errc::result_out_of_range || value < lo || value > hi)
+          return "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + " (got " + text + ")";
+        return {};
+      },
+      "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+// One of `names`, with a did-you-mean hint for near misses.
+CLI::Validator one_of(std::vector<std::string_view> names, std::string what) {
+  std::string list;
+  for (std::string_view n : names) list += (list.empty() ? "" : "|") + std::string(n);
+  return CLI::Validator(
+      [names, what](std::string& text) -> std::string {
+        if (std::find(names.begin(), names.end(), text) != names.end()) return {};
+        std::string msg = "unknown " + what + " \"" + text + "\"";
+        const std::string hint = glint::closest_match(text, names);
+        if (!hint.empty()) return msg + " (did you mean \"" + hint + "\"?)";
+        msg += " (expected one of";
+        for (size_t i = 0; i < names.size(); ++i) msg += (i ? ", \"" : " \"") + std::string(names[i]) + "\"";
+        return msg + ")";
+      },
+      list);
+}
+
 int run_render(const RenderArgs& args) {
   using namespace glint;
   const auto start = std::chrono::steady_clock::now();
@@ -88,9 +137,10 @@ int run_render(const RenderArgs& args) {
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const RayStats& rays = stats.rays;
     std::fprintf(stderr,
-                 "glint: %s: %dx%d, %d spp, %d threads: render %.3f s (total %.3f s); rays: %s camera, "
+                 "glint: %s: %dx%d, %d spp, %d thread%s: render %.3f s (total %.3f s); rays: %s camera, "
                  "%s shadow, %s reflection, %s refraction; %.2f Mrays/s\n",
                  args.output_path.c_str(), r.width, r.height, r.samples_per_pixel, stats.threads,
+                 stats.threads == 1 ? "" : "s",
                  stats.seconds, total, format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
                  format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
                  stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
@@ -107,15 +157,40 @@ int main(int argc, char** argv) {
   CLI::App* render = app.add_subcommand("render", "render a scene file to an image");
   render->add_option("scene", args.scene_path, "scene file (JSON)")->required();
   render->add_option("-o,--output", args.output_path, "output image: .png .jpg .ppm .pfm .exr")->required();
-  render->add_option("--width", args.width, "image width in pixels")->check(CLI::Range(1, 1 << 20));
-  render->add_option("--height", args.height, "image height in pixels")->check(CLI::Range(1, 1 << 20));
-  render->add_option("--spp", args.spp, "samples per pixel")->check(CLI::Range(1, glint::kMaxSamplesPerPixel));
+  render->add_option("--width", args.width, "image width in pixels")->check(whole_number_in(1, 1 << 20));
+  render->add_option("--height", args.height, "image height in pixels")->check(whole_number_in(1, 1 << 20));
+  render->add_option("--spp", args.spp, "samples per pixel")->check(whole_number_in(1, glint::kMaxSamplesPerPixel));
   render->add_option("--max-depth", args.max_depth, "longest ray path (camera ray = 1)")
-      ->check(CLI::Range(1, glint::kMaxDepthLimit));
+      ->check(whole_number_in(1, glint::kMaxDepthLimit));
   render->add_option("--shading-model", args.shading_model, "phong or blinn-phong")
-      ->check(CLI::IsMember({"phong", "blinn-phong"}));
-  render->add_option("--threads", args.threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+      ->check(one_of({"phong", "blinn-phong"}, "shading model"));
+  render->add_option("--threads", args.threads, "worker threads (default: all cores)")
+      ->check(whole_number_in(1, 1024));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
+
+  // CLI11 words a missing or unknown command as "A subcommand is required": be precise.
+  if (argc <= 1) {
+    print_error("no command given (usage: glint render SCENE.json -o OUT.png; see glint --help)");
+    return 2;
+  }
+  if (argv[1][0] != '-') {
+    std::vector<std::string_view> commands;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+      commands.push_back(sub->get_name());
+    const std::string_view word = argv[1];
+    if (std::find(commands.begin(), commands.end(), word) == commands.end()) {
+      std::string msg = "unknown command \"" + std::string(word) + "\"";
+      const std::string hint = glint::closest_match(word, commands);
+      if (!hint.empty()) msg += " (did you mean \"" + hint + "\"?)";
+      else {
+        msg += " (expected";
+        for (size_t i = 0; i < commands.size(); ++i) msg += (i ? ", \"" : " \"") + std::string(commands[i]) + "\"";
+        msg += ")";
+      }
+      print_error(msg);
+      return 2;
+    }
+  }
 
   try {
     app.parse(argc, argv);
@@ -126,20 +201,20 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::string what = e.what();
     if (what.empty()) what = e.get_name();
-    std::fprintf(stderr, "error: %s\n", what.c_str());
+    print_error(what);
     return 2;
   }
 
   try {
     if (render->parsed()) return run_render(args);
   } catch (const glint::Error& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    print_error(e.what());
     return 1;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "error: out of memory\n");
+    print_error("out of memory");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    print_error(e.what());
     return 1;
   }
   return 0;

@@ -455,8 +455,8 @@ TEST(JsonErrors, TrailingContent) {
 
 TEST(JsonErrors, NulBytes) {
   // nlohmann's lexer reads NUL as end of input; we must not stop there.
-  EXPECT_JSON_ERROR(std::string("[1]\0[", 5), 1, 4, "syntax error: unexpected byte 0x00; expected end of input");
-  EXPECT_JSON_ERROR(std::string("[1]\n \0", 6), 2, 2, "syntax error: unexpected byte 0x00; expected end of input");
+  EXPECT_JSON_ERROR(std::string("[1]\0[", 5), 1, 4, "syntax error: unexpected NUL byte; expected end of input");
+  EXPECT_JSON_ERROR(std::string("[1]\n \0", 6), 2, 2, "syntax error: unexpected NUL byte; expected end of input");
   EXPECT_JSON_ERROR(std::string("[1,\0]", 5), 1, 4, "syntax error: unexpected NUL byte; expected value");
   EXPECT_JSON_ERROR(std::string("\0", 1), 1, 1, "syntax error: unexpected NUL byte; expected value");
   EXPECT_JSON_ERROR(std::string("[\"a\0\"]", 6), 1, 4,
@@ -589,7 +589,7 @@ TEST(JsonFile, DirectoryIsAnError) {
     parse_file(::testing::TempDir());
     FAIL() << "no error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot "), std::string::npos) << e.what();
+    EXPECT_EQ(e.message(), "cannot read: Is a directory");
   }
 }
 

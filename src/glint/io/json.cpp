@@ -25,7 +25,7 @@ namespace glint::json {
 
 namespace detail {
 
-// One value or object key. 16 bytes: a million-object scene has ~14 million.
+// One value or object key. 16 bytes: a million-sphere scene has 12 million.
 struct Node {
   union {
     double number;
@@ -114,6 +114,7 @@ std::string quote_key(std::string_view s) {
 
 std::string describe_byte(unsigned char c) {
   char buf[32];
+  if (c == 0) return "NUL byte";
   if (c > 0x20 && c < 0x7F) {
     std::snprintf(buf, sizeof buf, "character '%c'", c);
   } else {
@@ -550,12 +551,13 @@ Document parse(std::string text, std::string filename) {
     while (first < text.size() && is_whitespace(text[first])) ++first;
     if (first == text.size()) throw Error(data->location(base), "empty file: expected a JSON value");
 
-    // Capacity for scene-like files (one node per ~7 bytes, a child index
-    // per ~7, string bytes ~1/3 of the text) so the big arrays rarely have
-    // to be copied while growing; pages never touched cost no memory.
+    // Capacity for scene-like files (a node and a child index per ~7 bytes,
+    // strings ~1/3 of the bytes) with headroom, so the big arrays are rarely
+    // copied while growing. Pages never touched cost no resident memory;
+    // exact upper bounds (a node per 2 bytes) would reserve ~11x the file.
     data->nodes.reserve(text.size() / 5 + 16);
     data->children.reserve(text.size() / 5 + 16);
-    data->pool.reserve(text.size() / 3 + 16);
+    data->pool.reserve(text.size() / 2 + 16);
 
     Builder builder(text, base, *data);
     const char* begin = text.data() + base;
@@ -582,7 +584,10 @@ Document parse_file(const std::string& path) {
   std::string text;
   try {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!file) throw Error(SourceLocation{path, 0, 0}, std::string("cannot open: ") + std::strerror(errno));
+    if (!file) {
+      int err = errno;  // before anything else can overwrite it
+      throw Error(SourceLocation{path, 0, 0}, std::string("cannot open: ") + std::strerror(err));
+    }
     // Read straight into a buffer of the file's size when it is known, then
     // keep going in case the file grew or is not a regular file.
     std::error_code ec;
@@ -592,13 +597,13 @@ Document parse_file(const std::string& path) {
       text.resize(std::fread(text.data(), 1, text.size(), file.get()));
     }
     char chunk[1 << 16];
-    while (!std::ferror(file.get()) && !std::feof(file.get())) {
+    int err = 0;
+    while (err == 0 && !std::feof(file.get())) {
       size_t n = std::fread(chunk, 1, sizeof chunk, file.get());
+      if (std::ferror(file.get())) err = errno != 0 ? errno : EIO;
       text.append(chunk, n);
     }
-    if (std::ferror(file.get())) {
-      throw Error(SourceLocation{path, 0, 0}, std::string("cannot read: ") + std::strerror(errno));
-    }
+    if (err != 0) throw Error(SourceLocation{path, 0, 0}, std::string("cannot read: ") + std::strerror(err));
   } catch (const Error&) {
     throw;
   } catch (const std::exception&) {  // bad_alloc, length_error, filesystem_error

@@ -7,7 +7,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -37,6 +39,33 @@ size_t edit_distance(std::string_view a, std::string_view b) {
   }
   return row[b.size()];
 }
+
+// Text from the scene file as it appears in a message: control characters
+// escaped (a message is one line) and long text cut short.
+std::string printable(std::string_view s) {
+  constexpr size_t kMaxShown = 64;
+  std::string out;
+  size_t shown = s.size() > kMaxShown ? kMaxShown : s.size();
+  while (shown < s.size() && shown > 0 && (static_cast<unsigned char>(s[shown]) & 0xC0) == 0x80)
+    --shown;  // do not cut a UTF-8 sequence in two
+  for (size_t i = 0; i < shown; ++i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20 || c == 0x7F) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04X", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (shown < s.size()) out += "...";
+  return out;
+}
+
+std::string quote_text(std::string_view s) { return "\"" + printable(s) + "\""; }
 
 std::string quoted_list(const Keys& keys) {
   std::string out;
@@ -98,7 +127,7 @@ class SceneReader {
     for (size_t i = 0; i < obj.size(); ++i) {
       const std::string_view key = obj.key(i);
       if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-      std::string what = "unknown key \"" + std::string(key) + "\"";
+      std::string what = "unknown key " + quote_text(key);
       const std::string hint = closest_match(key, allowed);
       if (!hint.empty())
         what += " (did you mean \"" + hint + "\"?)";
@@ -150,7 +179,7 @@ class SceneReader {
     const std::string s = string(v, path);
     for (size_t i = 0; i < names.size(); ++i)
       if (names[i] == s) return i;
-    std::string msg = std::string("unknown ") + what + " \"" + s + "\"";
+    std::string msg = std::string("unknown ") + what + " " + quote_text(s);
     const std::string hint = closest_match(s, names);
     msg += hint.empty() ? " (expected one of " + quoted_list(names) + ")" : " (did you mean \"" + hint + "\"?)";
     fail(v, path, msg);
@@ -162,11 +191,19 @@ class SceneReader {
                         (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
     return {number(v[0], index(path, 0)), number(v[1], index(path, 1)), number(v[2], index(path, 2))};
   }
+  // d / |d|, or nullopt for a zero (or non-finite) vector. Divides by the
+  // largest component first, so huge (1e300) or tiny (1e-300) components
+  // neither overflow nor underflow the length.
+  static std::optional<Vec3> unit(const Vec3& d) {
+    const double big = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    if (!(big > 0) || !std::isfinite(big)) return std::nullopt;
+    const Vec3 s = d / big;
+    return s / length(s);
+  }
   Vec3 direction(const Value& v, const std::string& path) const {
-    const Vec3 d = vec3(v, path);
-    const double len = length(d);
-    if (!(len > 0) || !std::isfinite(len)) fail(v, path, "must be a non-zero vector");
-    return d / len;
+    const auto d = unit(vec3(v, path));
+    if (!d) fail(v, path, "must be a non-zero vector");
+    return *d;
   }
   // A color: [r, g, b] or one number meaning gray; never negative.
   Color color(const Value& v, const std::string& path) const {
@@ -201,6 +238,7 @@ class SceneReader {
     if (auto v = r.find("background")) s.background = color(*v, "render.background");
     if (auto v = r.find("epsilon")) s.epsilon = positive(*v, "render.epsilon");
     SourceLocation where = r.location();
+    if (auto v = r.find("height")) where = v->location();
     if (auto v = r.find("width")) where = v->location();
     check_image_size(s.width, s.height, where);
   }
@@ -225,8 +263,9 @@ class SceneReader {
         fail(*v, "camera.fov_y", "must be between 0 and 180 degrees, exclusive (got " + format_number(cam.fov_y) + ")");
     }
     if (auto v = c.find("view_height")) cam.view_height = positive(*v, "camera.view_height");
-    const Vec3 forward = normalize(cam.look_at - cam.position);
-    if (!(length(cross(forward, normalize(cam.up))) > 1e-9)) {
+    const auto forward = unit(cam.look_at - cam.position);
+    if (!forward) fail(look_at, "camera.look_at", "too far from camera.position (the distance overflows)");
+    if (!(length(cross(*forward, cam.up)) > 1e-9)) {
       const auto up = c.find("up");
       fail(up ? *up : c, up ? "camera.up" : "camera", "up is parallel to the view direction");
     }
@@ -236,7 +275,7 @@ class SceneReader {
     expect_object(m, "materials");
     for (size_t i = 0; i < m.size(); ++i) {
       const std::string name(m.key(i));
-      const std::string path = "materials." + name;
+      const std::string path = "materials." + printable(name);
       const Value v = m.member(i);
       expect_object(v, path);
       check_keys(v, path, {"ambient", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior", "fresnel"});
@@ -288,7 +327,8 @@ class SceneReader {
                                      "attenuation", "corner", "edge_u", "edge_v", "samples"};
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end() &&
           std::find(any_light.begin(), any_light.end(), key) != any_light.end())
-        throw Error(v.key_location(k), join(path, key) + ": not valid for a " + type_name + " light");
+        throw Error(v.key_location(k), join(path, key) + ": not valid for " +
+                                           (light.type == LightType::ambient ? "an " : "a ") + type_name + " light");
     }
     check_keys(v, path, allowed);
 
@@ -353,7 +393,7 @@ class SceneReader {
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 4; ++c) a[r][c] = e[4 * r + c];
       auto xf = Transform::from_affine(a);
-      if (!xf) fail(*m, p, "the matrix is singular");
+      if (!xf) fail(*m, p, "the matrix is singular (or too badly scaled to invert)");
       return xf;
     }
     if (auto s = v.find("scale")) {
@@ -372,7 +412,7 @@ class SceneReader {
     }
     if (auto tr = v.find("translate")) t = compose(Transform::translate(vec3(*tr, join(path, "translate"))), t);
     // Recheck: extreme scales can still make the composition numerically singular.
-    if (!Transform::from_affine(t.m)) fail(v, path, "the transform is singular");
+    if (!Transform::from_affine(t.m)) fail(v, path, "the transform is singular (or too badly scaled to invert)");
     return t;
   }
 
@@ -388,7 +428,7 @@ class SceneReader {
     if (it != material_index_.end()) return it->second;
     Keys names;
     for (const auto& [n, _] : material_index_) names.push_back(n);
-    std::string msg = "unknown material \"" + name + "\"";
+    std::string msg = "unknown material " + quote_text(name);
     const std::string hint = closest_match(name, names);
     if (!hint.empty()) msg += " (did you mean \"" + hint + "\"?)";
     else if (names.empty()) msg += " (the scene defines no materials)";

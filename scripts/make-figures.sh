@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Renders the lecture figures of scenes/figures and the showcase into docs/img/
+# (small PNGs the README shows). Needs a built glint (scripts/setup.sh) and python3.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+GLINT=${GLINT:-build/glint}
+OUT=docs/img
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+mkdir -p "$OUT"
+render() { "$GLINT" render "$@" --quiet; }
+
+for part in ambient diffuse specular sum; do
+  render scenes/figures/components-$part.json -o "$TMP/components-$part.ppm"
+done
+python3 scripts/montage.py "$OUT/components.png" "$TMP"/components-{ambient,diffuse,specular,sum}.ppm
+
+for m in phong blinn-phong blinn-phong-same-exponent; do
+  render scenes/figures/model-$m.json -o "$TMP/model-$m.ppm"
+done
+python3 scripts/montage.py "$OUT/phong-vs-blinn.png" "$TMP"/model-{phong,blinn-phong,blinn-phong-same-exponent}.ppm
+
+render scenes/figures/exponents.json -o "$OUT/exponents.png"
+render scenes/figures/shadows.json -o "$OUT/shadows.png"
+
+for d in 1 2 5; do
+  render scenes/figures/mirrors.json --max-depth $d -o "$TMP/mirrors-$d.ppm"
+done
+python3 scripts/montage.py "$OUT/mirrors.png" "$TMP"/mirrors-{1,2,5}.ppm
+
+render scenes/figures/refraction.json -o "$OUT/refraction.png"
+render scenes/showcase.json -o "$OUT/showcase.png"
+echo "figures written to $OUT/"
