@@ -22,28 +22,35 @@ Affine multiply(const Affine& b, const Affine& a) {
 }  // namespace
 
 std::optional<Transform> Transform::from_affine(const Affine& a) {
-  // Inverse of the 3x3 linear part by cofactors; translation follows.
-  const double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
-  const double c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2];
-  const double c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
-  const double det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
-  // Singular relative to the matrix's own scale, so tiny but valid scales pass.
+  // Judge singularity on the linear part divided by its largest entry, so
+  // huge or tiny but well-conditioned scales neither overflow nor fail.
   double scale = 0.0;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) scale = std::max(scale, std::abs(a[i][j]));
-  if (!std::isfinite(det) || scale == 0.0 || std::abs(det) <= 1e-12 * scale * scale * scale)
-    return std::nullopt;
-  const double id = 1.0 / det;
+  if (!(scale > 0.0) || !std::isfinite(scale)) return std::nullopt;
+  double u[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) u[i][j] = a[i][j] / scale;
+  const double unit_det = u[0][0] * (u[1][1] * u[2][2] - u[1][2] * u[2][1]) -
+                          u[0][1] * (u[1][0] * u[2][2] - u[1][2] * u[2][0]) +
+                          u[0][2] * (u[1][0] * u[2][1] - u[1][1] * u[2][0]);
+  if (!(std::abs(unit_det) > 1e-12)) return std::nullopt;
+  // Inverse of the scaled 3x3 part by cofactors, then undo the scaling:
+  // inverse(a) = inverse(u) / scale. The translation follows.
+  const double id = 1.0 / (unit_det * scale);
   Affine inv{};
-  inv[0][0] = c00 * id;
-  inv[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) * id;
-  inv[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) * id;
-  inv[1][0] = c01 * id;
-  inv[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) * id;
-  inv[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) * id;
-  inv[2][0] = c02 * id;
-  inv[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) * id;
-  inv[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) * id;
+  inv[0][0] = (u[1][1] * u[2][2] - u[1][2] * u[2][1]) * id;
+  inv[0][1] = (u[0][2] * u[2][1] - u[0][1] * u[2][2]) * id;
+  inv[0][2] = (u[0][1] * u[1][2] - u[0][2] * u[1][1]) * id;
+  inv[1][0] = (u[1][2] * u[2][0] - u[1][0] * u[2][2]) * id;
+  inv[1][1] = (u[0][0] * u[2][2] - u[0][2] * u[2][0]) * id;
+  inv[1][2] = (u[0][2] * u[1][0] - u[0][0] * u[1][2]) * id;
+  inv[2][0] = (u[1][0] * u[2][1] - u[1][1] * u[2][0]) * id;
+  inv[2][1] = (u[0][1] * u[2][0] - u[0][0] * u[2][1]) * id;
+  inv[2][2] = (u[0][0] * u[1][1] - u[0][1] * u[1][0]) * id;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (!std::isfinite(inv[i][j])) return std::nullopt;
   for (int i = 0; i < 3; ++i)
     inv[i][3] = -(inv[i][0] * a[0][3] + inv[i][1] * a[1][3] + inv[i][2] * a[2][3]);
   Transform t;
