@@ -646,3 +646,30 @@ TEST_F(ImageIo, ReadErrors) {
     }
   }
 }
+
+namespace glint {
+namespace {
+
+// The table-driven to_srgb8 must agree with round(srgb_encode(x) * 255) over
+// the whole [0, 1] float range (every 61st bit pattern, plus the ends).
+TEST(ImageSrgbTable, MatchesTheFormulaAcrossTheFloatRange) {
+  const std::uint32_t one = std::bit_cast<std::uint32_t>(1.0f);
+  int mismatches = 0;
+  for (std::uint32_t bits = 0; bits <= one; bits += 61) {
+    const float x = std::bit_cast<float>(bits);
+    const double exact = std::round(static_cast<double>(srgb_encode(x)) * 255.0);
+    if (to_srgb8(x) != static_cast<int>(exact)) {
+      // Only a value within float rounding of a code boundary may differ.
+      const double scaled = static_cast<double>(srgb_encode(x)) * 255.0;
+      if (std::abs(scaled - std::floor(scaled) - 0.5) > 1e-4) ++mismatches;
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_EQ(to_srgb8(1.0f), 255);
+  EXPECT_EQ(to_srgb8(7.0f), 255);
+  EXPECT_EQ(to_srgb8(0.0f), 0);
+  EXPECT_EQ(to_srgb8(-1.0f), 0);
+}
+
+}  // namespace
+}  // namespace glint

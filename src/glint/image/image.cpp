@@ -65,9 +65,46 @@ bool valid_size(long w, long h) {
 
 // --- encoders ---------------------------------------------------------------
 
+// Code k is round(encode(x) * 255): the number of code boundaries
+// decode((k + 0.5) / 255) at or below x.
+struct Srgb8Table {
+  std::array<float, 255> boundary{};
+  // The code at the start of each bucket of floats sharing their top 16 bits
+  // (sign, exponent, 7 mantissa bits): a bucket spans at most one boundary.
+  std::vector<std::uint8_t> bucket_code;
+
+  Srgb8Table() {
+    for (int k = 0; k < 255; ++k) {
+      const double e = (k + 0.5) / 255.0;
+      boundary[k] = static_cast<float>(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
+    }
+    const std::uint32_t buckets = std::bit_cast<std::uint32_t>(1.0f) >> 16;
+    bucket_code.resize(buckets);
+    for (std::uint32_t i = 0; i < buckets; ++i) {
+      const float start = std::bit_cast<float>(i << 16);
+      bucket_code[i] = static_cast<std::uint8_t>(
+          std::upper_bound(boundary.begin(), boundary.end(), start) - boundary.begin());
+    }
+  }
+};
+
+const Srgb8Table& srgb8_table() {
+  static const Srgb8Table table;
+  return table;
+}
+
+inline std::uint8_t srgb8_with(const Srgb8Table& t, float linear) {
+  if (!(linear > 0.0f)) return 0;  // also NaN
+  if (linear >= 1.0f) return 255;
+  unsigned code = t.bucket_code[std::bit_cast<std::uint32_t>(linear) >> 16];
+  while (code < 255 && linear >= t.boundary[code]) ++code;
+  return static_cast<std::uint8_t>(code);
+}
+
 Bytes srgb8_pixels(const Image& image) {
   Bytes out(image.rgb.size());
-  std::transform(image.rgb.begin(), image.rgb.end(), out.begin(), to_srgb8);
+  const Srgb8Table& table = srgb8_table();
+  for (size_t i = 0; i < out.size(); ++i) out[i] = srgb8_with(table, image.rgb[i]);
   return out;
 }
 
@@ -581,23 +618,7 @@ float srgb_decode(float encoded) {
   return static_cast<float>(x < 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
 }
 
-std::uint8_t to_srgb8(float linear) {
-  // The code k is round(encode(linear) * 255): the number of code boundaries
-  // decode((k + 0.5) / 255) at or below `linear`. A binary search over that
-  // table is exact and far cheaper than pow() per channel.
-  static const std::array<float, 255> boundaries = [] {
-    std::array<float, 255> b{};
-    for (int k = 0; k < 255; ++k) {
-      const double e = (k + 0.5) / 255.0;
-      const double linear_value = e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
-      b[k] = static_cast<float>(linear_value);
-    }
-    return b;
-  }();
-  if (!(linear > 0.0f)) return 0;  // also NaN
-  return static_cast<std::uint8_t>(std::upper_bound(boundaries.begin(), boundaries.end(), linear) -
-                                   boundaries.begin());
-}
+std::uint8_t to_srgb8(float linear) { return srgb8_with(srgb8_table(), linear); }
 
 void write_image(const Image& image, const fs::path& path) {
   try {
