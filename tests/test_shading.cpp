@@ -118,7 +118,10 @@ TEST_P(Formula, EachTermAndTheirSum) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, Formula, ::testing::Values(ShadingModel::phong, ShadingModel::blinn_phong));
+INSTANTIATE_TEST_SUITE_P(Models, Formula, ::testing::Values(ShadingModel::phong, ShadingModel::blinn_phong),
+                         [](const ::testing::TestParamInfo<ShadingModel>& info) {
+                           return info.param == ShadingModel::phong ? "Phong" : "BlinnPhong";
+                         });
 
 TEST(Formula, SpecularHighlightIsBrightestWhereTheFormulaSaysSo) {
   OneSphere s(ShadingModel::phong);
