@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <future>
+#include <thread>
 
 namespace glint {
 
 namespace {
 
 constexpr int kBins = 16;
-constexpr int kMaxDepth = 60;  // traversal stacks hold 64 entries
+constexpr int kMaxDepth = 60;  // bounds the traversal stack (see bvh.h)
+constexpr size_t kParallelMinPrimitives = 4096;
 
 // The binary tree the SAH build makes; collapsed into Bvh4Node afterwards.
 struct BinaryNode {
@@ -40,8 +43,8 @@ struct BinaryTree {
 
 class Builder {
  public:
-  Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& options, BinaryTree& out)
-      : refs_(refs), options_(options), out_(out) {}
+  Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& options, BinaryTree& out, int parallel_depth)
+      : refs_(refs), options_(options), out_(out), parallel_depth_(parallel_depth) {}
 
   uint32_t build(size_t begin, size_t end, int depth) {
     const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
@@ -140,18 +143,45 @@ class Builder {
   }
 
   uint32_t make_interior(uint32_t index, size_t begin, size_t mid, size_t end, int axis, int depth) {
-    build(begin, mid, depth + 1);  // the first child lands at index + 1
-    const uint32_t second = build(mid, end, depth + 1);
+    (void)axis;
+    uint32_t second;
+    if (depth < parallel_depth_ && end - begin >= kParallelMinPrimitives) {
+      // The two halves own disjoint ranges of refs_: build them at once into
+      // trees of their own, then append both behind this node.
+      BinaryTree left, right;
+      auto left_done = std::async(std::launch::async, [&] {
+        Builder(refs_, options_, left, parallel_depth_).build(begin, mid, depth + 1);
+      });
+      Builder(refs_, options_, right, parallel_depth_).build(mid, end, depth + 1);
+      left_done.get();
+      append(left);  // the first child lands at index + 1
+      second = append(right);
+    } else {
+      build(begin, mid, depth + 1);  // the first child lands at index + 1
+      second = build(mid, end, depth + 1);
+    }
     BinaryNode& n = out_.nodes[index];  // re-fetch: the vector may have grown
     n.offset = second;
     n.count = 0;
-    (void)axis;
     return index;
+  }
+
+  // Appends a separately built tree, rebasing its node and primitive indices.
+  uint32_t append(const BinaryTree& tree) {
+    const uint32_t node_base = static_cast<uint32_t>(out_.nodes.size());
+    const uint32_t prim_base = static_cast<uint32_t>(out_.primitives.size());
+    for (BinaryNode n : tree.nodes) {
+      n.offset += n.count > 0 ? prim_base : node_base;
+      out_.nodes.push_back(n);
+    }
+    out_.primitives.insert(out_.primitives.end(), tree.primitives.begin(), tree.primitives.end());
+    return node_base;
   }
 
   std::vector<PrimRef>& refs_;
   const BvhBuildOptions& options_;
   BinaryTree& out_;
+  int parallel_depth_;  // subtrees above this depth are built on their own threads
 };
 
 // Collapses the binary tree into 4-wide nodes: each 4-wide node takes a
@@ -241,7 +271,11 @@ Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, c
   BinaryTree tree;
   tree.nodes.reserve(2 * refs.size());
   tree.primitives.reserve(refs.size());
-  Builder(refs, options, tree).build(0, refs.size(), 0);
+  // 2^d subtrees for d levels of threads: a few per core balances uneven splits.
+  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  int parallel_depth = 0;
+  while (threads > 1 && (1 << parallel_depth) < 4 * threads && parallel_depth < 8) ++parallel_depth;
+  Builder(refs, options, tree, parallel_depth).build(0, refs.size(), 0);
   refs = {};
   // Rays are tested in float: pad boxes by more than the float rounding of
   // coordinates as large as the scene's (and the camera's) farthest point.

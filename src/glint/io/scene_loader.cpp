@@ -83,6 +83,30 @@ std::string format_number(double v) {
   return s.str();
 }
 
+// Where a value sits in the document ("objects[3].radius"), kept as a chain
+// of stack references while the reader descends and formatted only when a
+// message needs it: a million objects cost no string building.
+class Path {
+ public:
+  Path(const char* name) : name_(name) {}  // NOLINT: a literal path ("render.width")
+  Path(const Path& parent, std::string_view key) : parent_(&parent), name_(key) {}
+  Path(const Path& parent, size_t index) : parent_(&parent), index_(index), is_index_(true) {}
+
+  bool empty() const { return parent_ == nullptr && name_.empty(); }
+  std::string str() const {
+    std::string out = parent_ ? parent_->str() : std::string();
+    if (is_index_) return out + "[" + std::to_string(index_) + "]";
+    if (!out.empty()) out += ".";
+    return out + (parent_ ? printable(name_) : std::string(name_));
+  }
+
+ private:
+  const Path* parent_ = nullptr;
+  std::string_view name_;
+  size_t index_ = 0;
+  bool is_index_ = false;
+};
+
 // Reads one scene document. Each reader function takes the value and its
 // path in the document (for messages) and returns checked data.
 class SceneReader {
@@ -104,26 +128,22 @@ class SceneReader {
 
  private:
   // --- errors and shapes of values -------------------------------------
-  [[noreturn]] void fail(const Value& at, const std::string& path, const std::string& what) const {
-    throw Error(at.location(), path.empty() ? what : path + ": " + what);
+  [[noreturn]] void fail(const Value& at, const Path& path, const std::string& what) const {
+    throw Error(at.location(), path.empty() ? what : path.str() + ": " + what);
   }
 
-  static std::string join(const std::string& path, std::string_view key) {
-    return path.empty() ? std::string(key) : path + "." + std::string(key);
-  }
-  static std::string index(const std::string& path, size_t i) {
-    return path + "[" + std::to_string(i) + "]";
-  }
+  static Path join(const Path& path, std::string_view key) { return Path(path, key); }
+  static Path index(const Path& path, size_t i) { return Path(path, i); }
 
-  void expect_object(const Value& v, const std::string& path) const {
+  void expect_object(const Value& v, const Path& path) const {
     if (!v.is_object()) fail(v, path, std::string("expected an object, got ") + v.kind_name());
   }
-  void expect_array(const Value& v, const std::string& path) const {
+  void expect_array(const Value& v, const Path& path) const {
     if (!v.is_array()) fail(v, path, std::string("expected an array, got ") + v.kind_name());
   }
 
   // Every key must be one of `allowed`; an unknown one is an error with a hint.
-  void check_keys(const Value& obj, const std::string& path, const Keys& allowed) const {
+  void check_keys(const Value& obj, const Path& path, const Keys& allowed) const {
     for (size_t i = 0; i < obj.size(); ++i) {
       const std::string_view key = obj.key(i);
       if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
@@ -133,32 +153,32 @@ class SceneReader {
         what += " (did you mean \"" + hint + "\"?)";
       else
         what += " (expected one of " + quoted_list(allowed) + ")";
-      throw Error(obj.key_location(i), path.empty() ? what : path + ": " + what);
+      throw Error(obj.key_location(i), path.empty() ? what : path.str() + ": " + what);
     }
   }
 
-  Value require(const Value& obj, const std::string& path, std::string_view key) const {
+  Value require(const Value& obj, const Path& path, std::string_view key) const {
     if (auto v = obj.find(key)) return *v;
-    fail(obj, path.empty() ? "scene" : path, "missing required key \"" + std::string(key) + "\"");
+    fail(obj, path.empty() ? Path("scene") : path, "missing required key \"" + std::string(key) + "\"");
   }
 
-  double number(const Value& v, const std::string& path) const {
+  double number(const Value& v, const Path& path) const {
     if (!v.is_number()) fail(v, path, std::string("expected a number, got ") + v.kind_name());
     const double x = v.as_number();
     if (!std::isfinite(x)) fail(v, path, "must be a finite number");
     return x;
   }
-  double positive(const Value& v, const std::string& path) const {
+  double positive(const Value& v, const Path& path) const {
     const double x = number(v, path);
     if (!(x > 0)) fail(v, path, "must be > 0 (got " + format_number(x) + ")");
     return x;
   }
-  double non_negative(const Value& v, const std::string& path) const {
+  double non_negative(const Value& v, const Path& path) const {
     const double x = number(v, path);
     if (!(x >= 0)) fail(v, path, "must be >= 0 (got " + format_number(x) + ")");
     return x;
   }
-  int integer(const Value& v, const std::string& path, int lo, int hi) const {
+  int integer(const Value& v, const Path& path, int lo, int hi) const {
     const double x = number(v, path);
     if (!v.is_integer() || x != std::floor(x))
       fail(v, path, "expected a whole number, got " + format_number(x));
@@ -166,16 +186,16 @@ class SceneReader {
     if (x > hi) fail(v, path, "must be <= " + std::to_string(hi) + " (got " + format_number(x) + ")");
     return static_cast<int>(x);
   }
-  bool boolean(const Value& v, const std::string& path) const {
+  bool boolean(const Value& v, const Path& path) const {
     if (!v.is_bool()) fail(v, path, std::string("expected true or false, got ") + v.kind_name());
     return v.as_bool();
   }
-  std::string string(const Value& v, const std::string& path) const {
+  std::string string(const Value& v, const Path& path) const {
     if (!v.is_string()) fail(v, path, std::string("expected a string, got ") + v.kind_name());
     return std::string(v.as_string());
   }
   // One of `names`, with a hint for near misses.
-  size_t choice(const Value& v, const std::string& path, const Keys& names, const char* what) const {
+  size_t choice(const Value& v, const Path& path, const Keys& names, const char* what) const {
     const std::string s = string(v, path);
     for (size_t i = 0; i < names.size(); ++i)
       if (names[i] == s) return i;
@@ -185,7 +205,7 @@ class SceneReader {
     fail(v, path, msg);
   }
 
-  Vec3 vec3(const Value& v, const std::string& path) const {
+  Vec3 vec3(const Value& v, const Path& path) const {
     if (!v.is_array() || v.size() != 3)
       fail(v, path, std::string("expected [x, y, z], got ") +
                         (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
@@ -200,13 +220,13 @@ class SceneReader {
     const Vec3 s = d / big;
     return s / length(s);
   }
-  Vec3 direction(const Value& v, const std::string& path) const {
+  Vec3 direction(const Value& v, const Path& path) const {
     const auto d = unit(vec3(v, path));
     if (!d) fail(v, path, "must be a non-zero vector");
     return *d;
   }
   // A color: [r, g, b] or one number meaning gray; never negative.
-  Color color(const Value& v, const std::string& path) const {
+  Color color(const Value& v, const Path& path) const {
     Color c;
     if (v.is_number()) {
       c = Color(number(v, path));
@@ -222,7 +242,7 @@ class SceneReader {
 
   // --- sections ----------------------------------------------------------
   void read_render(const Value& r) {
-    const std::string path = "render";
+    const Path path("render");
     expect_object(r, path);
     check_keys(r, path, {"width", "height", "samples_per_pixel", "max_depth", "shading_model", "background", "epsilon"});
     RenderSettings& s = scene_.render;
@@ -244,7 +264,7 @@ class SceneReader {
   }
 
   void read_camera(const Value& c) {
-    const std::string path = "camera";
+    const Path path("camera");
     expect_object(c, path);
     check_keys(c, path, {"type", "position", "look_at", "up", "fov_y", "view_height"});
     Camera& cam = scene_.camera;
@@ -272,10 +292,11 @@ class SceneReader {
   }
 
   void read_materials(const Value& m) {
-    expect_object(m, "materials");
+    const Path materials_path("materials");
+    expect_object(m, materials_path);
     for (size_t i = 0; i < m.size(); ++i) {
       const std::string name(m.key(i));
-      const std::string path = "materials." + printable(name);
+      const Path path(materials_path, name);
       const Value v = m.member(i);
       expect_object(v, path);
       check_keys(v, path, {"ambient", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior", "fresnel"});
@@ -298,7 +319,7 @@ class SceneReader {
     for (size_t i = 0; i < list.size(); ++i) read_light(list[i], index("lights", i));
   }
 
-  void read_light(const Value& v, const std::string& path) {
+  void read_light(const Value& v, const Path& path) {
     expect_object(v, path);
     static const Keys types = {"point", "directional", "ambient", "spot", "area"};
     const LightType kinds[] = {LightType::point, LightType::directional, LightType::ambient,
@@ -327,7 +348,7 @@ class SceneReader {
                                      "attenuation", "corner", "edge_u", "edge_v", "samples"};
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end() &&
           std::find(any_light.begin(), any_light.end(), key) != any_light.end())
-        throw Error(v.key_location(k), join(path, key) + ": not valid for " +
+        throw Error(v.key_location(k), join(path, key).str() + ": not valid for " +
                                            (light.type == LightType::ambient ? "an " : "a ") + type_name + " light");
     }
     check_keys(v, path, allowed);
@@ -368,7 +389,7 @@ class SceneReader {
       if (auto x = v.find("samples")) light.samples = integer(*x, join(path, "samples"), 1, kMaxAreaLightSamples);
     }
     if (auto x = v.find("attenuation")) {
-      const std::string p = join(path, "attenuation");
+      const Path p = join(path, "attenuation");
       const Vec3 a = vec3(*x, p);
       if (a.x < 0 || a.y < 0 || a.z < 0) fail(*x, p, "coefficients must be >= 0");
       if (!(a.x > 0 || a.y > 0 || a.z > 0)) fail(*x, p, "at least one coefficient must be > 0");
@@ -377,14 +398,14 @@ class SceneReader {
     scene_.lights.push_back(std::move(light));
   }
 
-  std::optional<Transform> read_transform(const Value& v, const std::string& path) const {
+  std::optional<Transform> read_transform(const Value& v, const Path& path) const {
     expect_object(v, path);
     check_keys(v, path, {"scale", "rotate", "translate", "matrix"});
     Transform t;
     if (auto m = v.find("matrix")) {
       if (v.size() != 1)
         fail(v, path, "\"matrix\" cannot be combined with \"scale\", \"rotate\" or \"translate\"");
-      const std::string p = join(path, "matrix");
+      const Path p = join(path, "matrix");
       if (!m->is_array() || m->size() != 16) fail(*m, p, "expected 16 numbers (a 4x4 matrix, row by row)");
       double e[16];
       for (size_t i = 0; i < 16; ++i) e[i] = number((*m)[i], index(p, i));
@@ -397,13 +418,13 @@ class SceneReader {
       return xf;
     }
     if (auto s = v.find("scale")) {
-      const std::string p = join(path, "scale");
+      const Path p = join(path, "scale");
       const Vec3 f = s->is_number() ? Vec3(number(*s, p)) : vec3(*s, p);
       if (f.x == 0 || f.y == 0 || f.z == 0) fail(*s, p, "a zero scale makes the transform singular");
       t = Transform::scale(f);
     }
     if (auto r = v.find("rotate")) {
-      const std::string p = join(path, "rotate");
+      const Path p = join(path, "rotate");
       expect_object(*r, p);
       check_keys(*r, p, {"axis", "angle"});
       const Vec3 axis = direction(require(*r, p, "axis"), join(p, "axis"));
@@ -422,7 +443,7 @@ class SceneReader {
     for (size_t i = 0; i < list.size(); ++i) read_object(list[i], index("objects", i));
   }
 
-  uint32_t material_ref(const Value& v, const std::string& path) const {
+  uint32_t material_ref(const Value& v, const Path& path) const {
     const std::string name = string(v, path);
     auto it = material_index_.find(name);
     if (it != material_index_.end()) return it->second;
@@ -435,7 +456,7 @@ class SceneReader {
     fail(v, path, msg);
   }
 
-  void read_object(const Value& v, const std::string& path) {
+  void read_object(const Value& v, const Path& path) {
     expect_object(v, path);
     static const Keys types = {"sphere", "plane", "triangle", "box", "mesh"};
     const Value type_value = require(v, path, "type");
@@ -472,7 +493,7 @@ class SceneReader {
       }
       case 2: {
         const Value verts = require(v, path, "vertices");
-        const std::string p = join(path, "vertices");
+        const Path p = join(path, "vertices");
         if (!verts.is_array() || verts.size() != 3) fail(verts, p, "expected three vertices [[x,y,z], [x,y,z], [x,y,z]]");
         Triangle t{vec3(verts[0], index(p, 0)), vec3(verts[1], index(p, 1)), vec3(verts[2], index(p, 2))};
         if (!(length(cross(t.v1 - t.v0, t.v2 - t.v0)) > 0)) fail(verts, p, "degenerate triangle (zero area)");
