@@ -135,7 +135,7 @@ TEST(Bvh, MatchesBruteForceOnRandomRays) {
     const auto brute = build_brute_force(scene);
     Rng rng(7);
     int hits = 0;
-    const int rays = count > 5000 ? 1500 : 5000;
+    const int rays = count > 5000 ? 500 : 5000;
     for (int i = 0; i < rays; ++i) {
       Ray ray;
       ray.origin = {rng.next_double() * 30 - 15, rng.next_double() * 30 - 15, rng.next_double() * 30 - 15};
