@@ -20,6 +20,7 @@
 #include "glint/error.h"
 #include "glint/image/image.h"
 #include "glint/io/scene_loader.h"
+#include "glint/render/explain.h"
 #include "glint/render/renderer.h"
 
 namespace {
@@ -104,6 +105,30 @@ CLI::Validator one_of(std::vector<std::string_view> names, std::string what) {
       list);
 }
 
+struct ExplainArgs {
+  std::string scene_path;
+  std::vector<int> pixel;
+  bool json = false;
+  std::optional<int> width, height, max_depth;
+  std::optional<std::string> shading_model;
+};
+
+int run_explain(const ExplainArgs& args) {
+  using namespace glint;
+  Scene scene = load_scene(args.scene_path);
+  RenderSettings& r = scene.render;
+  if (args.width) r.width = *args.width;
+  if (args.height) r.height = *args.height;
+  if (args.max_depth) r.max_depth = *args.max_depth;
+  if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
+  r.samples_per_pixel = 1;  // explain follows the pixel's center ray
+  const auto accel = build_accelerator(scene);
+  const PixelExplanation e = explain_pixel(scene, *accel, args.pixel.at(0), args.pixel.at(1));
+  const std::string text = args.json ? explanation_json(scene, e) : explanation_text(scene, e);
+  std::fwrite(text.data(), 1, text.size(), stdout);
+  return 0;
+}
+
 int run_render(const RenderArgs& args) {
   using namespace glint;
   const auto start = std::chrono::steady_clock::now();
@@ -168,6 +193,18 @@ int main(int argc, char** argv) {
       ->check(whole_number_in(1, 1024));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
 
+  ExplainArgs explain_args;
+  CLI::App* explain = app.add_subcommand("explain", "explain one pixel: its whole ray tree, term by term");
+  explain->add_option("scene", explain_args.scene_path, "scene file (JSON)")->required();
+  explain->add_option("--pixel", explain_args.pixel, "pixel X Y (0 0 is the top-left)")->required()->expected(2);
+  explain->add_flag("--json", explain_args.json, "print one JSON object (the format of docs/scene-format.md)");
+  explain->add_option("--width", explain_args.width, "image width in pixels")->check(whole_number_in(1, 1 << 20));
+  explain->add_option("--height", explain_args.height, "image height in pixels")->check(whole_number_in(1, 1 << 20));
+  explain->add_option("--max-depth", explain_args.max_depth, "longest ray path (camera ray = 1)")
+      ->check(whole_number_in(1, glint::kMaxDepthLimit));
+  explain->add_option("--shading-model", explain_args.shading_model, "phong or blinn-phong")
+      ->check(one_of({"phong", "blinn-phong"}, "shading model"));
+
   // CLI11 words a missing or unknown command as "A subcommand is required": be precise.
   if (argc <= 1) {
     print_error("no command given (usage: glint render SCENE.json -o OUT.png; see glint --help)");
@@ -207,6 +244,7 @@ int main(int argc, char** argv) {
 
   try {
     if (render->parsed()) return run_render(args);
+    if (explain->parsed()) return run_explain(explain_args);
   } catch (const glint::Error& e) {
     print_error(e.what());
     return 1;

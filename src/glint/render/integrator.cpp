@@ -61,12 +61,22 @@ SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
 }
 
 Integrator::Integrator(const Scene& scene, const Accelerator& accel)
-    : scene_(scene), accel_(accel), epsilon_(scene.render.epsilon.value_or(auto_epsilon(scene))) {}
+    : scene_(scene), accel_(accel), epsilon_(scene.render.epsilon.value_or(auto_epsilon(scene))) {
+  for (const Light& light : scene.lights)
+    cos_cutoff_.push_back(std::cos(light.cutoff * std::numbers::pi / 180.0));
+}
 
-Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx) const {
+Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace* trace) const {
   const std::optional<Hit> hit = accel_.intersect(ray);
-  if (!hit) return scene_.render.background;
-  return shade_surface(ray, *hit, depth, ctx).sum();
+  Color color = scene_.render.background;
+  if (hit) color = shade_surface(ray, *hit, depth, ctx, trace).sum();
+  if (trace) {
+    trace->ray = ray;
+    trace->depth = depth;
+    trace->hit = hit;
+    trace->color = color;
+  }
+  return color;
 }
 
 namespace {
@@ -95,10 +105,10 @@ double shininess_pow(double x, double alpha) {
 
 }  // namespace
 
-void Integrator::add_light_sample(const Light& light, const Vec3& to_light, double shadow_t_max,
-                                  double distance, const SurfacePoint& sp, const Vec3& n,
-                                  const Vec3& v, const Vec3& shadow_origin, double weight,
-                                  ShadeTerms& out, TraceContext& ctx) const {
+void Integrator::add_light_sample(const Light& light, double cos_cutoff, const Vec3& to_light,
+                                  double shadow_t_max, double distance, const SurfacePoint& sp, const Vec3& n,
+                                  const Vec3& v, const Vec3& shadow_origin, double weight, ShadeTerms& out,
+                                  TraceContext& ctx, LightTrace* trace) const {
   const Vec3 l = normalize(to_light);
   const double n_dot_l = dot(n, l);
   if (!(n_dot_l > 0.0)) return;
@@ -107,12 +117,21 @@ void Integrator::add_light_sample(const Light& light, const Vec3& to_light, doub
   if (light.type == LightType::spot) {
     const double cos_angle = -dot(l, light.direction);
     // The cone's edge counts as inside; the tolerance absorbs rounding.
-    if (cos_angle < std::cos(light.cutoff * std::numbers::pi / 180.0) - 1e-12) return;
-    if (light.falloff != 0.0) scale *= std::pow(std::max(0.0, cos_angle), light.falloff);
+    if (cos_angle < cos_cutoff - 1e-12) {
+      if (trace) trace->spot_factor = 0;
+      return;
+    }
+    if (light.falloff != 0.0) {
+      const double factor = std::pow(std::max(0.0, cos_angle), light.falloff);
+      scale *= factor;
+      if (trace) trace->spot_factor = factor;
+    }
   }
   if (light.type != LightType::directional) {
     const Vec3& a = light.attenuation;
-    scale /= a.x + a.y * distance + a.z * distance * distance;
+    const double denominator = a.x + a.y * distance + a.z * distance * distance;
+    scale /= denominator;
+    if (trace) trace->attenuation = 1.0 / denominator;
   }
 
   Ray shadow;
@@ -121,25 +140,38 @@ void Integrator::add_light_sample(const Light& light, const Vec3& to_light, doub
   shadow.t_min = 0.0;
   shadow.t_max = shadow_t_max;
   ctx.stats.shadow++;
-  if (accel_.occluded(shadow)) return;
+  if (trace) {
+    // The same any-hit query, asked for the blocker's name.
+    if (const auto blocker = accel_.first_blocker(shadow)) {
+      if (!trace->blocker) trace->blocker = blocker;
+      return;
+    }
+  } else if (accel_.occluded(shadow)) {
+    return;
+  }
 
   const Material& m = scene_.materials[sp.material];
   out.diffuse += (scale * n_dot_l) * (m.diffuse * light.diffuse);
-  double s = 0.0;
+  double cos_spec = 0.0;  // r.v or n.h, before clamping
   if (scene_.render.shading_model == ShadingModel::phong) {
     const Vec3 r = 2.0 * n_dot_l * n - l;
-    s = std::max(0.0, dot(r, v));
+    cos_spec = dot(r, v);
   } else {
     const Vec3 half = l + v;
     const double len = length(half);
-    if (len > 0.0) s = std::max(0.0, dot(n, half / len));
+    if (len > 0.0) cos_spec = dot(n, half / len);
   }
+  const double s = std::max(0.0, cos_spec);
   if (s > 0.0 && !is_black(m.specular * light.specular))
     out.specular += (scale * shininess_pow(s, m.shininess)) * (m.specular * light.specular);
+  if (trace) {
+    trace->lit_samples++;
+    if (!trace->specular_cos) trace->specular_cos = cos_spec;
+  }
 }
 
-ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth,
-                                     TraceContext& ctx) const {
+ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx,
+                                     RayTrace* trace) const {
   const SurfacePoint sp = evaluate_hit(scene_, ray, hit);
   const Material& m = scene_.materials[sp.material];
   const Vec3 d = normalize(ray.direction);
@@ -152,21 +184,39 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth,
   // on the incoming side, refracted rays on the far side.
   const Vec3 above = sp.p + epsilon_ * ng;
   const Vec3 below = sp.p - epsilon_ * ng;
+  if (trace) {
+    trace->surface = sp;
+    trace->normal = n;
+  }
 
+  // Each light's terms are summed on their own, then added: the contract's
+  // "sum over lights", in the same order whether or not a trace is kept.
   ShadeTerms out;
-  for (const Light& light : scene_.lights) {
-    out.ambient += m.ambient * light.ambient;
+  for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
+    const Light& light = scene_.lights[li];
+    ShadeTerms terms;
+    LightTrace* light_trace = nullptr;
+    if (trace) {
+      trace->lights.emplace_back();
+      light_trace = &trace->lights.back();
+      light_trace->index = li;
+    }
+    terms.ambient = m.ambient * light.ambient;
     switch (light.type) {
       case LightType::ambient:
         break;
       case LightType::point:
       case LightType::spot: {
         const Vec3 to_light = light.position - sp.p;
-        add_light_sample(light, to_light, 1.0, length(to_light), sp, n, v, above, 1.0, out, ctx);
+        add_light_sample(light, cos_cutoff_[li], to_light, 1.0, length(to_light), sp, n, v, above, 1.0, terms,
+                         ctx, light_trace);
+        if (light_trace) light_trace->l = normalize(to_light);
         break;
       }
       case LightType::directional:
-        add_light_sample(light, -light.direction, kInfinity, 0.0, sp, n, v, above, 1.0, out, ctx);
+        add_light_sample(light, cos_cutoff_[li], -light.direction, kInfinity, 0.0, sp, n, v, above, 1.0, terms,
+                         ctx, light_trace);
+        if (light_trace) light_trace->l = -light.direction;
         break;
       case LightType::area: {
         // Stratified jittered points on the parallelogram, one per cell of an
@@ -181,12 +231,27 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth,
             const double sv = (j + ctx.rng.next_double()) / nv;
             const Vec3 pos = light.corner + su * light.edge_u + sv * light.edge_v;
             const Vec3 to_light = pos - sp.p;
-            add_light_sample(light, to_light, 1.0, length(to_light), sp, n, v, above, weight, out, ctx);
+            add_light_sample(light, cos_cutoff_[li], to_light, 1.0, length(to_light), sp, n, v, above, weight,
+                             terms, ctx, light_trace);
           }
+        }
+        if (light_trace) {
+          light_trace->samples = light.samples;
+          light_trace->l = normalize(light.corner + 0.5 * (light.edge_u + light.edge_v) - sp.p);
         }
         break;
       }
     }
+    if (light_trace) {
+      light_trace->terms = terms;
+      if (light.type != LightType::ambient) {
+        light_trace->n_dot_l = dot(n, light_trace->l);
+        light_trace->shadowed = light_trace->blocker.has_value() && light_trace->lit_samples == 0;
+      }
+    }
+    out.ambient += terms.ambient;
+    out.diffuse += terms.diffuse;
+    out.specular += terms.specular;
   }
 
   // Weights of the reflected and refracted rays (contract: materials, fresnel).
@@ -216,12 +281,24 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth,
     if (!is_black(reflect_weight)) {
       ctx.stats.reflection++;
       const Ray reflected{above, reflect(d, n)};
-      out.reflection = reflect_weight * cast_ray(reflected, depth + 1, ctx);
+      RayTrace* child = nullptr;
+      if (trace) {
+        trace->reflection_weight = reflect_weight;
+        trace->reflection = std::make_unique<RayTrace>();
+        child = trace->reflection.get();
+      }
+      out.reflection = reflect_weight * cast_ray(reflected, depth + 1, ctx, child);
     }
     if (refracts) {
       ctx.stats.refraction++;
       const Ray refracted{below, refracted_dir};
-      out.transmission = refract_weight * cast_ray(refracted, depth + 1, ctx);
+      RayTrace* child = nullptr;
+      if (trace) {
+        trace->refraction_weight = refract_weight;
+        trace->refraction = std::make_unique<RayTrace>();
+        child = trace->refraction.get();
+      }
+      out.transmission = refract_weight * cast_ray(refracted, depth + 1, ctx, child);
     }
   }
   return out;

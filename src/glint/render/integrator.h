@@ -5,6 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
 
 #include "glint/accel/accelerator.h"
 #include "glint/math/rng.h"
@@ -42,27 +45,57 @@ struct TraceContext {
   RayStats stats;
 };
 
+// What one light did at a shaded point: the facts `glint explain` reports.
+struct LightTrace {
+  uint32_t index = 0;       // into Scene::lights
+  Vec3 l;                   // unit vector to the light (an area light's center)
+  double n_dot_l = 0;
+  bool shadowed = false;    // every sample's shadow ray was blocked
+  std::optional<uint32_t> blocker;       // the first blocker found (an object index)
+  std::optional<double> specular_cos;    // r.v (phong) or n.h (blinn-phong), when lit
+  double spot_factor = 1, attenuation = 1;
+  int samples = 1, lit_samples = 0;      // area lights: shadow samples and unblocked ones
+  ShadeTerms terms;                      // this light's ambient, diffuse, specular
+};
+
+// The whole tree of rays behind one camera ray, filled when asked for.
+struct RayTrace {
+  Ray ray;
+  int depth = 1;
+  std::optional<Hit> hit;
+  SurfacePoint surface;
+  Vec3 normal;  // the shading normal as used: turned toward the incoming ray
+  std::vector<LightTrace> lights;
+  Color reflection_weight, refraction_weight;
+  std::unique_ptr<RayTrace> reflection, refraction;  // null when not cast
+  Color color;
+};
+
 class Integrator {
  public:
   Integrator(const Scene& scene, const Accelerator& accel);
 
   // Color seen along `ray`, a ray of the given depth (the camera ray is 1).
-  Color cast_ray(const Ray& ray, int depth, TraceContext& ctx) const;
-  ShadeTerms shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx) const;
+  // With `trace`, also records the ray tree (same arithmetic, same result).
+  Color cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace* trace = nullptr) const;
+  ShadeTerms shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx,
+                           RayTrace* trace = nullptr) const;
 
   double epsilon() const { return epsilon_; }
 
  private:
-  // Diffuse + specular from a point source at `light_pos` (point, spot and
-  // area samples), or from a direction (`directional`), shadow ray included.
-  void add_light_sample(const Light& light, const Vec3& to_light, double shadow_t_max,
+  // Diffuse + specular from a point source at `to_light` from the surface
+  // (point, spot and area samples) or from a direction (`directional`),
+  // shadow ray included, added to `out` (and to `trace` when given).
+  void add_light_sample(const Light& light, double cos_cutoff, const Vec3& to_light, double shadow_t_max,
                         double distance, const SurfacePoint& sp, const Vec3& n, const Vec3& v,
-                        const Vec3& shadow_origin, double weight, ShadeTerms& out,
-                        TraceContext& ctx) const;
+                        const Vec3& shadow_origin, double weight, ShadeTerms& out, TraceContext& ctx,
+                        LightTrace* trace) const;
 
   const Scene& scene_;
   const Accelerator& accel_;
   double epsilon_;
+  std::vector<double> cos_cutoff_;  // per light: cos of a spot light's cutoff
 };
 
 }  // namespace glint

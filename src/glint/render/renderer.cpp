@@ -17,6 +17,10 @@ int resolve_thread_count(int requested) {
   return hw == 0 ? 1 : static_cast<int>(hw);
 }
 
+Rng pixel_rng(int x, int y) {
+  return Rng(mix_seed(static_cast<uint64_t>(x), static_cast<uint64_t>(y), 0x676c696e74ULL));
+}
+
 void stratified_grid(int samples, int& nx, int& ny) {
   nx = static_cast<int>(std::sqrt(static_cast<double>(samples)));
   while (samples % nx != 0) --nx;
@@ -29,7 +33,7 @@ Color render_pixel_with(const Integrator& integrator, const Scene& scene, const 
                         int x, int y, TraceContext& ctx) {
   const int w = scene.render.width, h = scene.render.height;
   const int spp = scene.render.samples_per_pixel;
-  ctx.rng = Rng(mix_seed(static_cast<uint64_t>(x), static_cast<uint64_t>(y), 0x676c696e74ULL));
+  ctx.rng = pixel_rng(x, y);
   if (spp == 1) {
     ctx.stats.camera++;
     const Ray ray = generate_camera_ray(frame, (x + 0.5) / w, (y + 0.5) / h);

@@ -36,4 +36,7 @@ Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int 
 
 int resolve_thread_count(int requested);
 
+// The random numbers of pixel (x, y): seeded from its coordinates alone.
+Rng pixel_rng(int x, int y);
+
 }  // namespace glint

@@ -1,0 +1,189 @@
+#include "glint/render/explain.h"
+
+// GCC 12 warns falsely about std::string concatenation at -O3 (GCC bug 105329).
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12
+#pragma GCC diagnostic ignored "-Wrestrict"
+#endif
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "glint/error.h"
+#include "glint/render/camera.h"
+#include "glint/render/renderer.h"
+
+namespace glint {
+
+PixelExplanation explain_pixel(const Scene& scene, const Accelerator& accel, int x, int y) {
+  const int w = scene.render.width, h = scene.render.height;
+  if (x < 0 || y < 0 || x >= w || y >= h)
+    throw Error("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                std::to_string(w) + "x" + std::to_string(h) + " image");
+  const Integrator integrator(scene, accel);
+  const CameraFrame frame = make_camera_frame(scene.camera, w, h);
+  TraceContext ctx{pixel_rng(x, y), {}};
+  PixelExplanation e;
+  e.x = x;
+  e.y = y;
+  // Exactly the spp-1 path of render_image: the center ray, depth 1.
+  const Ray ray = generate_camera_ray(frame, (x + 0.5) / w, (y + 0.5) / h);
+  const Color c = integrator.cast_ray(ray, 1, ctx, &e.ray);
+  e.color = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+  return e;
+}
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json vec(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
+
+const char* light_type_name(LightType t) {
+  switch (t) {
+    case LightType::ambient: return "ambient";
+    case LightType::point: return "point";
+    case LightType::directional: return "directional";
+    case LightType::spot: return "spot";
+    case LightType::area: return "area";
+  }
+  return "?";
+}
+
+Json object_name(const Scene& scene, uint32_t object) {
+  auto it = scene.object_names.find(object);
+  return it == scene.object_names.end() ? Json(nullptr) : Json(it->second);
+}
+
+Json node_json(const Scene& scene, const RayTrace& t) {
+  Json node;
+  node["origin"] = vec(t.ray.origin);
+  node["direction"] = vec(t.ray.direction);
+  node["depth"] = t.depth;
+  if (!t.hit) {
+    node["hit"] = nullptr;
+  } else {
+    Json hit;
+    hit["object"] = t.hit->object;
+    hit["name"] = object_name(scene, t.hit->object);
+    hit["t"] = t.hit->t;
+    hit["point"] = vec(t.surface.p);
+    hit["normal"] = vec(t.normal);
+    hit["material"] = scene.materials[t.surface.material].name;
+    Json lights = Json::array();
+    for (const LightTrace& lt : t.lights) {
+      const Light& light = scene.lights[lt.index];
+      Json lj;
+      lj["index"] = lt.index;
+      lj["type"] = light_type_name(light.type);
+      const bool directed = light.type != LightType::ambient;
+      lj["l"] = directed ? vec(lt.l) : Json(nullptr);
+      lj["n_dot_l"] = directed ? Json(lt.n_dot_l) : Json(nullptr);
+      lj["shadowed"] = lt.shadowed;
+      lj["blocker"] = lt.blocker ? Json(*lt.blocker) : Json(nullptr);
+      lj["specular_cos"] = lt.specular_cos ? Json(*lt.specular_cos) : Json(nullptr);
+      lj["ambient"] = vec(lt.terms.ambient);
+      lj["diffuse"] = vec(lt.terms.diffuse);
+      lj["specular"] = vec(lt.terms.specular);
+      if (light.type == LightType::spot) lj["spot_factor"] = lt.spot_factor;
+      if (directed && light.type != LightType::directional) lj["attenuation"] = lt.attenuation;
+      if (light.type == LightType::area) {
+        lj["samples"] = lt.samples;
+        lj["unblocked_samples"] = lt.lit_samples;
+      }
+      lights.push_back(std::move(lj));
+    }
+    hit["lights"] = std::move(lights);
+    auto child = [&](const Color& weight, const std::unique_ptr<RayTrace>& ray) {
+      if (!ray) return Json(nullptr);
+      Json c;
+      c["weight"] = vec(weight);
+      c["ray"] = node_json(scene, *ray);
+      return c;
+    };
+    hit["reflection"] = child(t.reflection_weight, t.reflection);
+    hit["refraction"] = child(t.refraction_weight, t.refraction);
+    node["hit"] = std::move(hit);
+  }
+  node["color"] = vec(t.color);
+  return node;
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+std::string fmt(const Vec3& v) { return "(" + fmt(v.x) + ", " + fmt(v.y) + ", " + fmt(v.z) + ")"; }
+
+std::string object_label(const Scene& scene, uint32_t object) {
+  std::string s = "object " + std::to_string(object);
+  auto it = scene.object_names.find(object);
+  if (it != scene.object_names.end()) s += " \"" + it->second + "\"";
+  return s;
+}
+
+void node_text(const Scene& scene, const RayTrace& t, const std::string& indent, std::string& out) {
+  out += indent + "ray (depth " + std::to_string(t.depth) + ") from " + fmt(t.ray.origin) + " toward " +
+         fmt(t.ray.direction) + "\n";
+  if (!t.hit) {
+    out += indent + "  hits nothing: background " + fmt(t.color) + "\n";
+    return;
+  }
+  const Material& m = scene.materials[t.surface.material];
+  out += indent + "  hits " + object_label(scene, t.hit->object) + " at t = " + fmt(t.hit->t) + ", point " +
+         fmt(t.surface.p) + ", normal " + fmt(t.normal) + ", material \"" + m.name + "\"\n";
+  const bool phong = scene.render.shading_model == ShadingModel::phong;
+  for (const LightTrace& lt : t.lights) {
+    const Light& light = scene.lights[lt.index];
+    std::string line = indent + "  light " + std::to_string(lt.index) + " (" + light_type_name(light.type) + "): ";
+    if (light.type == LightType::ambient) {
+      line += "ambient " + fmt(lt.terms.ambient);
+    } else {
+      line += "l " + fmt(lt.l) + ", n.l " + fmt(lt.n_dot_l);
+      if (!(lt.n_dot_l > 0) && light.type != LightType::area) {
+        line += ": faces away";
+      } else if (light.type == LightType::spot && lt.spot_factor == 0) {
+        line += ": outside the cone";
+      } else if (lt.shadowed) {
+        line += ": shadowed by " + (lt.blocker ? object_label(scene, *lt.blocker) : std::string("?"));
+      } else {
+        if (light.type == LightType::area)
+          line += ", " + std::to_string(lt.lit_samples) + " of " + std::to_string(lt.samples) + " samples unblocked";
+        if (lt.specular_cos) line += std::string(phong ? ", r.v " : ", n.h ") + fmt(*lt.specular_cos);
+        if (light.type == LightType::spot) line += ", spot factor " + fmt(lt.spot_factor);
+        if (light.type != LightType::directional && lt.attenuation != 1) line += ", attenuation " + fmt(lt.attenuation);
+      }
+      line += "\n" + indent + "      ambient " + fmt(lt.terms.ambient) + " + diffuse " + fmt(lt.terms.diffuse) +
+              " + specular " + fmt(lt.terms.specular);
+    }
+    out += line + "\n";
+  }
+  if (t.reflection) {
+    out += indent + "  reflection, weight " + fmt(t.reflection_weight) + ":\n";
+    node_text(scene, *t.reflection, indent + "    ", out);
+  }
+  if (t.refraction) {
+    out += indent + "  refraction, weight " + fmt(t.refraction_weight) + ":\n";
+    node_text(scene, *t.refraction, indent + "    ", out);
+  }
+  out += indent + "  = " + fmt(t.color) + "\n";
+}
+
+}  // namespace
+
+std::string explanation_json(const Scene& scene, const PixelExplanation& e) {
+  Json j;
+  j["pixel"] = Json::array({e.x, e.y});
+  j["color"] = vec(e.color);
+  j["ray"] = node_json(scene, e.ray);
+  return j.dump(2) + "\n";
+}
+
+std::string explanation_text(const Scene& scene, const PixelExplanation& e) {
+  std::string out = "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + ") = " + fmt(e.color) +
+                    "  [" + (scene.render.shading_model == ShadingModel::phong ? "phong" : "blinn-phong") + "]\n";
+  node_text(scene, e.ray, "", out);
+  return out;
+}
+
+}  // namespace glint
