@@ -3,6 +3,8 @@
 // overriding the scene, thread-count determinism, the stats line, and every
 // error path (one `error:` line, non-zero exit, outputs untouched, no leftovers).
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -498,3 +500,33 @@ TEST_F(CliErrors, FailedWriteLeavesNoTemporaryFile) {
 }
 
 }  // namespace
+
+// --- explain -----------------------------------------------------------------
+
+using CliExplain = CliTest;
+
+TEST_F(CliExplain, JsonColorEqualsTheRenderedPixel) {
+  const glint::Image image = render("out.pfm", "--spp 1");
+  for (const auto& [x, y] : std::vector<std::pair<int, int>>{{0, 0}, {5, 7}, {12, 8}, {20, 3}}) {
+    if (x >= image.width || y >= image.height) continue;
+    const RunResult r = run("explain scene.json --pixel " + std::to_string(x) + " " + std::to_string(y) + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["pixel"], nlohmann::json::array({x, y}));
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(static_cast<float>(j["color"][c].get<double>()), image.pixel(x, y)[c]) << x << "," << y;
+  }
+}
+
+TEST_F(CliExplain, TextNamesTheRayTree) {
+  const RunResult r = run("explain scene.json --pixel 12 8");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("pixel (12, 8) = ", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("ray (depth 1)"), std::string::npos) << r.out;
+}
+
+TEST_F(CliExplain, Errors) {
+  expect_failure("explain scene.json --pixel 100000 0", "outside");
+  expect_failure("explain scene.json --pixel 1", "pixel");
+  expect_failure("explain missing.json --pixel 1 1", "missing.json");
+}
