@@ -1,7 +1,10 @@
 // glint: the command line. Parses options, then runs the library's pipeline
 // load_scene -> build_accelerator -> render_image -> write_image, printing
 // progress and statistics on stderr. All errors end as one `error:` line.
+#include <signal.h>
 #include <unistd.h>
+
+#include <atomic>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -22,15 +25,43 @@
 #include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
 #include "glint/render/renderer.h"
+#include "glint/render/resume.h"
+#include "glint/io/file_io.h"
 
 namespace {
+
+// Thrown (not a glint::Error) when a signal stopped the render.
+struct Interrupted {
+  std::string what;
+};
 
 struct RenderArgs {
   std::string scene_path, output_path;
   std::optional<int> width, height, spp, max_depth, threads;
   std::optional<std::string> shading_model;
   bool quiet = false;
+  bool resume = false;
 };
+
+// Set by SIGINT/SIGTERM: the render stops, writes what it has and a resume
+// file. A second signal kills at once (SA_RESETHAND).
+std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void on_interrupt(int signal) {
+  g_signal.store(signal);
+  g_interrupted.store(true);
+}
+
+void install_interrupt_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
 
 std::string format_count(uint64_t n) {
   char buf[32];
@@ -149,14 +180,53 @@ int run_render(const RenderArgs& args) {
   if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
   if (args.width || args.height) check_image_size(r.width, r.height, SourceLocation{});
 
+  // The resume key covers the scene file and the settings that shape pixels.
+  const std::filesystem::path resume_path = resume_path_for(output);
+  const uint64_t key = resume_key(read_file(args.scene_path), r);
+  Image image;
+  TileProgress tiles;
+  if (args.resume) {
+    if (auto state = read_resume_file(resume_path)) {
+      if (state->key != key || state->image.width != r.width || state->image.height != r.height)
+        throw Error(resume_path.string() + ": made for a different scene or different settings; "
+                    "delete it to render from the start");
+      image = std::move(state->image);
+      tiles = std::move(state->progress);
+    } else if (!args.quiet) {
+      std::fprintf(stderr, "glint: no resume file %s: rendering from the start\n", resume_path.c_str());
+    }
+  }
+  if (tiles.done.empty()) {
+    image = Image(r.width, r.height);
+    tiles = TileProgress(r.width, r.height, 16);
+  }
+
   const auto accel = build_accelerator(scene, AcceleratorOptions{args.threads.value_or(0)});
   RenderOptions options;
   options.threads = args.threads.value_or(0);
+  options.cancel = &g_interrupted;
   ProgressBar bar;
   if (!args.quiet && isatty(STDERR_FILENO)) options.progress = [&bar](double f) { bar.update(f); };
   RenderStats stats;
-  const Image image = render_image(scene, *accel, options, &stats);
+  const size_t done_before = tiles.count_done();
+  install_interrupt_handlers();
+  const bool complete = render_tiles(scene, *accel, image, tiles, options, &stats);
+  if (!complete) {
+    // Interrupted: keep the finished tiles (the rest is background) and what
+    // --resume needs to finish the job bit-identically.
+    write_resume_file(resume_path, ResumeState{key, tiles, image});
+    Image partial = image;
+    fill_unfinished_tiles(partial, tiles, r.background);
+    write_image(partial, output);
+    if (options.progress) std::fprintf(stderr, "\n");
+    throw Interrupted{"interrupted: " + std::to_string(tiles.count_done()) + " of " +
+                      std::to_string(tiles.done.size()) + " tiles in " + args.output_path +
+                      "; finish with the same command and --resume"};
+  }
   write_image(image, output);
+  std::error_code ignored;
+  std::filesystem::remove(resume_path, ignored);  // finished: any resume file is stale
+  (void)done_before;
 
   if (!args.quiet) {
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -192,6 +262,7 @@ int main(int argc, char** argv) {
   render->add_option("--threads", args.threads, "worker threads (default: all cores)")
       ->check(whole_number_in(1, 1024));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
+  render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
 
   ExplainArgs explain_args;
   CLI::App* explain = app.add_subcommand("explain", "explain one pixel: its whole ray tree, term by term");
@@ -245,6 +316,9 @@ int main(int argc, char** argv) {
   try {
     if (render->parsed()) return run_render(args);
     if (explain->parsed()) return run_explain(explain_args);
+  } catch (const Interrupted& e) {
+    print_error(e.what);
+    return 128 + g_signal.load();
   } catch (const glint::Error& e) {
     print_error(e.what());
     return 1;

@@ -1,5 +1,6 @@
 #include "glint/render/renderer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -60,30 +61,52 @@ Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int 
   return render_pixel_with(integrator, scene, frame, x, y, ctx);
 }
 
+TileProgress::TileProgress(int width, int height, int tile)
+    : tile_size(tile),
+      tiles_x((width + tile - 1) / tile),
+      tiles_y((height + tile - 1) / tile),
+      done(static_cast<size_t>(tiles_x) * static_cast<size_t>(tiles_y), 0) {}
+
+size_t TileProgress::count_done() const {
+  return static_cast<size_t>(std::count(done.begin(), done.end(), uint8_t{1}));
+}
+
 Image render_image(const Scene& scene, const Accelerator& accel, const RenderOptions& options,
                    RenderStats* stats) {
+  Image image(scene.render.width, scene.render.height);
+  TileProgress progress(scene.render.width, scene.render.height, std::max(1, options.tile_size));
+  render_tiles(scene, accel, image, progress, options, stats);
+  return image;
+}
+
+bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, TileProgress& progress,
+                  const RenderOptions& options, RenderStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   const int w = scene.render.width, h = scene.render.height;
-  Image image(w, h);
   const Integrator integrator(scene, accel);
   const CameraFrame frame = make_camera_frame(scene.camera, w, h);
 
-  const int tile = std::max(1, options.tile_size);
-  const int tiles_x = (w + tile - 1) / tile, tiles_y = (h + tile - 1) / tile;
-  const int tile_count = tiles_x * tiles_y;
-  const int threads = std::max(1, std::min(resolve_thread_count(options.threads), tile_count));
+  const int tile = progress.tile_size;
+  std::vector<int> todo;
+  for (size_t t = 0; t < progress.done.size(); ++t)
+    if (!progress.done[t]) todo.push_back(static_cast<int>(t));
+  const int todo_count = static_cast<int>(todo.size());
+  const int threads = std::max(1, std::min(resolve_thread_count(options.threads), std::max(1, todo_count)));
+  auto cancelled = [&] { return options.cancel && options.cancel->load(std::memory_order_relaxed); };
 
-  std::atomic<int> next_tile{0};
-  std::atomic<int> tiles_done{0};
+  std::atomic<int> next{0};
+  std::atomic<int> finished{0};  // tiles taken off the list: rendered or abandoned
   std::mutex stats_mutex;
   std::condition_variable all_done;
   RayStats total;
   auto worker = [&] {
     TraceContext ctx{Rng(0), {}};
-    for (int t = next_tile++; t < tile_count; t = next_tile++) {
-      const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
+    for (int i = next++; i < todo_count; i = next++) {
+      const int t = todo[i];
+      const int x0 = (t % progress.tiles_x) * tile, y0 = (t / progress.tiles_x) * tile;
       const int x1 = std::min(x0 + tile, w), y1 = std::min(y0 + tile, h);
-      for (int y = y0; y < y1; ++y) {
+      bool complete = !cancelled();
+      for (int y = y0; y < y1 && complete; ++y) {
         for (int x = x0; x < x1; ++x) {
           const Color c = render_pixel_with(integrator, scene, frame, x, y, ctx);
           float* px = image.pixel(x, y);
@@ -91,8 +114,11 @@ Image render_image(const Scene& scene, const Accelerator& accel, const RenderOpt
           px[1] = static_cast<float>(c.y);
           px[2] = static_cast<float>(c.z);
         }
+        complete = !cancelled() || y + 1 == y1;
       }
-      if (++tiles_done == tile_count) {
+      // Each worker writes only its own tiles' flags: no two threads share one.
+      if (complete) progress.done[t] = 1;
+      if (++finished == todo_count) {
         std::lock_guard lock(stats_mutex);
         all_done.notify_all();
       }
@@ -105,22 +131,39 @@ Image render_image(const Scene& scene, const Accelerator& accel, const RenderOpt
   pool.reserve(threads);
   for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
   if (options.progress) {
+    const double already = static_cast<double>(progress.done.size() - todo.size());
+    const double all = static_cast<double>(std::max<size_t>(1, progress.done.size()));
     std::unique_lock lock(stats_mutex);
     while (!all_done.wait_for(lock, std::chrono::milliseconds(100),
-                              [&] { return tiles_done.load() == tile_count; })) {
-      options.progress(static_cast<double>(tiles_done.load()) / tile_count);
+                              [&] { return finished.load() == todo_count || cancelled(); })) {
+      options.progress((already + finished.load()) / all);
     }
     lock.unlock();
-    options.progress(1.0);
   }
   for (std::thread& t : pool) t.join();
+  if (options.progress && !cancelled()) options.progress(1.0);
 
   if (stats) {
     stats->rays = total;
     stats->threads = threads;
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  return image;
+  return progress.complete();
+}
+
+void fill_unfinished_tiles(Image& image, const TileProgress& progress, const Color& background) {
+  const int tile = progress.tile_size;
+  for (size_t t = 0; t < progress.done.size(); ++t) {
+    if (progress.done[t]) continue;
+    const int x0 = static_cast<int>(t % progress.tiles_x) * tile, y0 = static_cast<int>(t / progress.tiles_x) * tile;
+    for (int y = y0; y < std::min(y0 + tile, image.height); ++y)
+      for (int x = x0; x < std::min(x0 + tile, image.width); ++x) {
+        float* px = image.pixel(x, y);
+        px[0] = static_cast<float>(background.x);
+        px[1] = static_cast<float>(background.y);
+        px[2] = static_cast<float>(background.z);
+      }
+  }
 }
 
 }  // namespace glint

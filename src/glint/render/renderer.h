@@ -3,7 +3,10 @@
 // so the image is bit-identical whatever the thread count.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
@@ -16,6 +19,21 @@ struct RenderOptions {
   int tile_size = 16;
   // Called on the calling thread about ten times a second with the fraction done.
   std::function<void(double fraction)> progress;
+  // When set and true, workers stop taking tiles and abandon the ones they are
+  // on (checked once per row); finished tiles stay finished.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// Which tiles of an image are finished: the unit of interrupt and resume.
+struct TileProgress {
+  int tile_size = 16;
+  int tiles_x = 0, tiles_y = 0;
+  std::vector<uint8_t> done;  // tiles_x * tiles_y flags, row-major
+
+  TileProgress() = default;
+  TileProgress(int width, int height, int tile);
+  size_t count_done() const;
+  bool complete() const { return count_done() == done.size(); }
 };
 
 struct RenderStats {
@@ -30,6 +48,16 @@ void stratified_grid(int samples, int& nx, int& ny);
 
 Image render_image(const Scene& scene, const Accelerator& accel, const RenderOptions& options = {},
                    RenderStats* stats = nullptr);
+
+// Renders the tiles of `image` not yet marked in `progress` (tile size taken
+// from it), marking each one as it completes. Returns progress.complete().
+// A resumed render gives the same bytes as an uninterrupted one: pixels
+// depend only on their coordinates.
+bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, TileProgress& progress,
+                  const RenderOptions& options = {}, RenderStats* stats = nullptr);
+
+// Paints the pixels of unfinished tiles with the background color.
+void fill_unfinished_tiles(Image& image, const TileProgress& progress, const Color& background);
 
 // Color of one pixel (all its samples averaged): what render_image stores.
 Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int y, TraceContext& ctx);

@@ -1,0 +1,111 @@
+#include "glint/render/resume.h"
+
+#include <cstring>
+#include <string>
+
+#include "glint/error.h"
+#include "glint/io/file_io.h"
+
+namespace glint {
+
+namespace {
+
+constexpr char kMagic[] = "GLINT-RESUME-1\n";  // 15 bytes + NUL, the NUL not stored
+constexpr size_t kMagicSize = sizeof(kMagic) - 1;
+
+uint64_t fnv1a(uint64_t h, const void* data, size_t size) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 0x100000001b3ULL;
+  return h;
+}
+
+template <class T>
+void put(std::vector<unsigned char>& out, const T& value) {
+  const auto* p = reinterpret_cast<const unsigned char*>(&value);
+  out.insert(out.end(), p, p + sizeof(T));
+}
+
+class Reader {
+ public:
+  Reader(const std::vector<unsigned char>& bytes, const std::filesystem::path& path) : bytes_(bytes), path_(path) {}
+  template <class T>
+  T get() {
+    T value;
+    need(sizeof(T));
+    std::memcpy(&value, bytes_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return value;
+  }
+  void read(void* out, size_t size) {
+    need(size);
+    std::memcpy(out, bytes_.data() + pos_, size);
+    pos_ += size;
+  }
+  bool at_end() const { return pos_ == bytes_.size(); }
+  [[noreturn]] void fail(const std::string& why) const {
+    throw Error(SourceLocation{path_.string(), 0, 0}, "not a valid resume file: " + why);
+  }
+
+ private:
+  void need(size_t size) const {
+    if (bytes_.size() - pos_ < size) fail("truncated");
+  }
+  const std::vector<unsigned char>& bytes_;
+  const std::filesystem::path& path_;
+  size_t pos_ = 0;
+};
+
+}  // namespace
+
+uint64_t resume_key(std::span<const unsigned char> scene_bytes, const RenderSettings& s) {
+  uint64_t h = 0xcbf29ce484222325ULL;
+  h = fnv1a(h, scene_bytes.data(), scene_bytes.size());
+  const int32_t fields[] = {s.width, s.height, s.samples_per_pixel, s.max_depth,
+                            s.shading_model == ShadingModel::phong ? 0 : 1};
+  return fnv1a(h, fields, sizeof fields);
+}
+
+std::filesystem::path resume_path_for(const std::filesystem::path& output) {
+  return std::filesystem::path(output.string() + ".glint-resume");
+}
+
+void write_resume_file(const std::filesystem::path& path, const ResumeState& state) {
+  std::vector<unsigned char> out(kMagic, kMagic + kMagicSize);
+  put(out, state.key);
+  const int32_t header[] = {state.image.width, state.image.height, state.progress.tile_size,
+                            state.progress.tiles_x, state.progress.tiles_y};
+  for (int32_t v : header) put(out, v);
+  out.insert(out.end(), state.progress.done.begin(), state.progress.done.end());
+  const auto* pixels = reinterpret_cast<const unsigned char*>(state.image.rgb.data());
+  out.insert(out.end(), pixels, pixels + state.image.rgb.size() * sizeof(float));
+  write_file_atomically(path, out);
+}
+
+std::optional<ResumeState> read_resume_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  const std::vector<unsigned char> bytes = read_file(path);
+  Reader in(bytes, path);
+  char magic[kMagicSize];
+  in.read(magic, kMagicSize);
+  if (std::memcmp(magic, kMagic, kMagicSize) != 0) in.fail("wrong signature");
+  ResumeState state;
+  state.key = in.get<uint64_t>();
+  const int32_t width = in.get<int32_t>(), height = in.get<int32_t>(), tile = in.get<int32_t>();
+  const int32_t tiles_x = in.get<int32_t>(), tiles_y = in.get<int32_t>();
+  if (width <= 0 || height <= 0 || width > (1 << 20) || height > (1 << 20) || tile <= 0 || tile > 4096)
+    in.fail("bad image or tile size");
+  state.progress = TileProgress(width, height, tile);
+  if (state.progress.tiles_x != tiles_x || state.progress.tiles_y != tiles_y) in.fail("tile counts do not match");
+  const size_t pixel_bytes = 3 * sizeof(float) * static_cast<size_t>(width) * static_cast<size_t>(height);
+  if (bytes.size() != kMagicSize + 8 + 20 + state.progress.done.size() + pixel_bytes) in.fail("wrong size");
+  in.read(state.progress.done.data(), state.progress.done.size());
+  for (uint8_t d : state.progress.done)
+    if (d > 1) in.fail("bad tile flag");
+  state.image = Image(width, height);
+  in.read(state.image.rgb.data(), pixel_bytes);
+  if (!in.at_end()) in.fail("trailing bytes");
+  return state;
+}
+
+}  // namespace glint
