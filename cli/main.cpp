@@ -160,6 +160,59 @@ int run_explain(const ExplainArgs& args) {
   return 0;
 }
 
+// Every error of the scene, one line each; exit 1 if there was any.
+int run_validate(const std::string& scene_path, bool quiet) {
+  const std::vector<glint::Error> errors = glint::validate_scene(scene_path);
+  for (const glint::Error& e : errors) print_error(e.what());
+  if (errors.empty() && !quiet) std::printf("%s: valid\n", scene_path.c_str());
+  return errors.empty() ? 0 : 1;
+}
+
+std::string human_bytes(double bytes) {
+  char buf[32];
+  if (bytes >= 1 << 30) std::snprintf(buf, sizeof buf, "%.2f GiB", bytes / (1 << 30));
+  else if (bytes >= 1 << 20) std::snprintf(buf, sizeof buf, "%.2f MiB", bytes / (1 << 20));
+  else if (bytes >= 1 << 10) std::snprintf(buf, sizeof buf, "%.1f KiB", bytes / (1 << 10));
+  else std::snprintf(buf, sizeof buf, "%.0f B", bytes);
+  return buf;
+}
+
+// What the scene holds and what rendering it will take in memory.
+int run_info(const std::string& scene_path) {
+  using namespace glint;
+  const Scene scene = load_scene(scene_path);
+  const auto accel = build_accelerator(scene);
+  const RenderSettings& r = scene.render;
+  size_t by_type[4] = {0, 0, 0, 0};
+  Bounds3 bounds;
+  for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+    by_type[static_cast<int>(scene.objects[i].type)]++;
+    if (scene.objects[i].type != ShapeType::plane) bounds.extend(object_bounds(scene, i));
+  }
+  size_t lights_by_type[5] = {0, 0, 0, 0, 0};
+  for (const Light& l : scene.lights) lights_by_type[static_cast<int>(l.type)]++;
+  const double scene_bytes = scene.objects.capacity() * sizeof(Object) + scene.spheres.capacity() * sizeof(Sphere) +
+                             scene.planes.capacity() * sizeof(Plane) + scene.triangles.capacity() * sizeof(Triangle) +
+                             scene.boxes.capacity() * sizeof(Box) + scene.transforms.capacity() * sizeof(Transform) +
+                             scene.materials.capacity() * sizeof(Material) + scene.lights.capacity() * sizeof(Light);
+  const double image_bytes = 12.0 * r.width * r.height;
+  std::printf("scene      %s\n", scene_path.c_str());
+  std::printf("image      %dx%d, %d spp, max depth %d, %s\n", r.width, r.height, r.samples_per_pixel, r.max_depth,
+              r.shading_model == ShadingModel::phong ? "phong" : "blinn-phong");
+  std::printf("objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes\n", scene.objects.size(),
+              by_type[0], by_type[1], by_type[2], by_type[3]);
+  std::printf("lights     %zu: %zu ambient, %zu point, %zu directional, %zu spot, %zu area\n", scene.lights.size(),
+              lights_by_type[0], lights_by_type[1], lights_by_type[2], lights_by_type[3], lights_by_type[4]);
+  std::printf("materials  %zu (and the default)\n", scene.materials.size() - 1);
+  if (!bounds.empty())
+    std::printf("bounds     (%g, %g, %g) to (%g, %g, %g), planes excluded\n", bounds.lo.x, bounds.lo.y, bounds.lo.z,
+                bounds.hi.x, bounds.hi.y, bounds.hi.z);
+  std::printf("memory     scene %s + BVH %s + image %s = %s\n", human_bytes(scene_bytes).c_str(),
+              human_bytes(static_cast<double>(accel->memory_bytes())).c_str(), human_bytes(image_bytes).c_str(),
+              human_bytes(scene_bytes + static_cast<double>(accel->memory_bytes()) + image_bytes).c_str());
+  return 0;
+}
+
 int run_render(const RenderArgs& args) {
   using namespace glint;
   const auto start = std::chrono::steady_clock::now();
@@ -264,6 +317,14 @@ int main(int argc, char** argv) {
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
 
+  std::string validate_path, info_path;
+  bool validate_quiet = false;
+  CLI::App* validate = app.add_subcommand("validate", "check a scene file without rendering; list every error");
+  validate->add_option("scene", validate_path, "scene file (JSON)")->required();
+  validate->add_flag("-q,--quiet", validate_quiet, "print nothing when the scene is valid");
+  CLI::App* info = app.add_subcommand("info", "what a scene holds: counts, bounds, memory");
+  info->add_option("scene", info_path, "scene file (JSON)")->required();
+
   ExplainArgs explain_args;
   CLI::App* explain = app.add_subcommand("explain", "explain one pixel: its whole ray tree, term by term");
   explain->add_option("scene", explain_args.scene_path, "scene file (JSON)")->required();
@@ -316,6 +377,8 @@ int main(int argc, char** argv) {
   try {
     if (render->parsed()) return run_render(args);
     if (explain->parsed()) return run_explain(explain_args);
+    if (validate->parsed()) return run_validate(validate_path, validate_quiet);
+    if (info->parsed()) return run_info(info_path);
   } catch (const Interrupted& e) {
     print_error(e.what);
     return 128 + g_signal.load();

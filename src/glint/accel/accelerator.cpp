@@ -103,6 +103,11 @@ class BvhAccelerator final : public Accelerator {
     return blocker;
   }
 
+  size_t memory_bytes() const override {
+    return bvh_.nodes.capacity() * sizeof(Bvh4Node) + bvh_.primitives.capacity() * sizeof(uint32_t) +
+           planes_.capacity() * sizeof(uint32_t);
+  }
+
  private:
   const Scene& scene_;
   std::vector<uint32_t> planes_;
@@ -133,6 +138,7 @@ class BruteForceAccelerator final : public Accelerator {
       if (intersect_object(scene_, i, ray, scratch)) return i;
     return std::nullopt;
   }
+  size_t memory_bytes() const override { return 0; }
 
  private:
   const Scene& scene_;

@@ -30,6 +30,8 @@ class Accelerator {
   virtual bool occluded(const Ray& ray) const = 0;
   // The object hit first by an any-hit query, for tools that name a blocker.
   virtual std::optional<uint32_t> first_blocker(const Ray& ray) const = 0;
+  // Bytes held by the acceleration structure itself (not the scene).
+  virtual size_t memory_bytes() const = 0;
 };
 
 struct AcceleratorOptions {

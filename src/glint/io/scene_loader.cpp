@@ -23,21 +23,23 @@ namespace {
 using json::Value;
 using Keys = std::vector<std::string_view>;
 
+// Edits (insert, delete, substitute, swap two neighbours) between a and b,
+// ignoring case: "widht" is one edit from "width".
 size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  if (a.size() > 256 || b.size() > 256) return std::max(a.size(), b.size());  // no hint for huge keys
+  auto lower = [](char c) { return std::tolower(static_cast<unsigned char>(c)); };
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
     for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
-                        std::tolower(static_cast<unsigned char>(b[j - 1]));
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (same ? 0 : 1)});
-      diag = up;
+      const size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1]))
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
   }
-  return row[b.size()];
+  return d[a.size()][b.size()];
 }
 
 // Text from the scene file as it appears in a message: control characters
@@ -93,6 +95,7 @@ class Path {
   Path(const Path& parent, size_t index) : parent_(&parent), index_(index), is_index_(true) {}
 
   bool empty() const { return parent_ == nullptr && name_.empty(); }
+  std::string_view last_key() const { return name_; }
   std::string str() const {
     std::string out = parent_ ? parent_->str() : std::string();
     if (is_index_) return out + "[" + std::to_string(index_) + "]";
@@ -114,20 +117,40 @@ class SceneReader {
   SceneReader(const json::Document& doc, std::filesystem::path base_dir)
       : doc_(doc), base_dir_(std::move(base_dir)) {}
 
-  Scene read() {
+  // With `errors`, problems are collected (one per material, light, object
+  // or section) and reading goes on; without, the first one is thrown.
+  Scene read(std::vector<Error>* errors = nullptr) {
+    errors_ = errors;
     const Value root = doc_.root();
     expect_object(root, "scene");
-    check_keys(root, "", {"render", "camera", "materials", "lights", "objects", "$schema"});
-    if (auto r = root.find("render")) read_render(*r);
-    read_camera(require(root, "", "camera"));
-    if (auto m = root.find("materials")) read_materials(*m);
-    if (auto l = root.find("lights")) read_lights(*l);
-    read_objects(require(root, "", "objects"));
+    collect([&] { check_keys(root, "", {"render", "camera", "materials", "lights", "objects", "$schema"}); });
+    if (auto r = root.find("render")) collect([&] { read_render(*r); });
+    collect([&] { read_camera(require(root, "", "camera")); });
+    if (auto m = root.find("materials")) collect([&] { read_materials(*m); });
+    if (auto l = root.find("lights")) collect([&] { read_lights(*l); });
+    collect([&] { read_objects(require(root, "", "objects")); });
     return std::move(scene_);
   }
 
  private:
   // --- errors and shapes of values -------------------------------------
+  // Runs `step`; a glint::Error it throws is recorded when collecting, else
+  // passed on. Returns whether the step succeeded.
+  template <class Step>
+  bool collect(Step&& step) {
+    if (!errors_) {
+      step();
+      return true;
+    }
+    try {
+      step();
+      return true;
+    } catch (const Error& e) {
+      errors_->push_back(e);
+      return false;
+    }
+  }
+
   [[noreturn]] void fail(const Value& at, const Path& path, const std::string& what) const {
     throw Error(at.location(), path.empty() ? what : path.str() + ": " + what);
   }
@@ -298,25 +321,31 @@ class SceneReader {
       const std::string name(m.key(i));
       const Path path(materials_path, name);
       const Value v = m.member(i);
-      expect_object(v, path);
-      check_keys(v, path, {"ambient", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior", "fresnel"});
-      Material mat;
-      mat.name = name;
-      if (auto x = v.find("ambient")) mat.ambient = color(*x, join(path, "ambient"));
-      if (auto x = v.find("diffuse")) mat.diffuse = color(*x, join(path, "diffuse"));
-      if (auto x = v.find("specular")) mat.specular = color(*x, join(path, "specular"));
-      if (auto x = v.find("shininess")) mat.shininess = positive(*x, join(path, "shininess"));
-      if (auto x = v.find("reflectivity")) mat.reflectivity = color(*x, join(path, "reflectivity"));
-      if (auto x = v.find("transparency")) mat.transparency = non_negative(*x, join(path, "transparency"));
-      if (auto x = v.find("ior")) mat.ior = positive(*x, join(path, "ior"));
-      if (auto x = v.find("fresnel")) mat.fresnel = boolean(*x, join(path, "fresnel"));
-      material_index_[name] = add_material(scene_, std::move(mat));
+      // A broken material still exists, so objects naming it report nothing more.
+      if (!collect([&] { read_material(v, path); })) material_index_[name] = 0;
     }
+  }
+
+  void read_material(const Value& v, const Path& path) {
+    const std::string name(path.last_key());
+    expect_object(v, path);
+    check_keys(v, path, {"ambient", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior", "fresnel"});
+    Material mat;
+    mat.name = name;
+    if (auto x = v.find("ambient")) mat.ambient = color(*x, join(path, "ambient"));
+    if (auto x = v.find("diffuse")) mat.diffuse = color(*x, join(path, "diffuse"));
+    if (auto x = v.find("specular")) mat.specular = color(*x, join(path, "specular"));
+    if (auto x = v.find("shininess")) mat.shininess = positive(*x, join(path, "shininess"));
+    if (auto x = v.find("reflectivity")) mat.reflectivity = color(*x, join(path, "reflectivity"));
+    if (auto x = v.find("transparency")) mat.transparency = non_negative(*x, join(path, "transparency"));
+    if (auto x = v.find("ior")) mat.ior = positive(*x, join(path, "ior"));
+    if (auto x = v.find("fresnel")) mat.fresnel = boolean(*x, join(path, "fresnel"));
+    material_index_[name] = add_material(scene_, std::move(mat));
   }
 
   void read_lights(const Value& list) {
     expect_array(list, "lights");
-    for (size_t i = 0; i < list.size(); ++i) read_light(list[i], index("lights", i));
+    for (size_t i = 0; i < list.size(); ++i) collect([&] { read_light(list[i], index("lights", i)); });
   }
 
   void read_light(const Value& v, const Path& path) {
@@ -349,7 +378,7 @@ class SceneReader {
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end() &&
           std::find(any_light.begin(), any_light.end(), key) != any_light.end())
         throw Error(v.key_location(k), join(path, key).str() + ": not valid for " +
-                                           (light.type == LightType::ambient ? "an " : "a ") + type_name + " light");
+                                           (light.type == LightType::ambient || light.type == LightType::area ? "an " : "a ") + type_name + " light");
     }
     check_keys(v, path, allowed);
 
@@ -440,7 +469,7 @@ class SceneReader {
   void read_objects(const Value& list) {
     expect_array(list, "objects");
     scene_.objects.reserve(list.size());
-    for (size_t i = 0; i < list.size(); ++i) read_object(list[i], index("objects", i));
+    for (size_t i = 0; i < list.size(); ++i) collect([&] { read_object(list[i], index("objects", i)); });
   }
 
   uint32_t material_ref(const Value& v, const Path& path) const {
@@ -520,6 +549,7 @@ class SceneReader {
 
   const json::Document& doc_;
   std::filesystem::path base_dir_;
+  std::vector<Error>* errors_ = nullptr;
   Scene scene_;
   std::map<std::string, uint32_t, std::less<>> material_index_;
 };
@@ -528,10 +558,12 @@ class SceneReader {
 
 std::string closest_match(std::string_view word, const std::vector<std::string_view>& candidates) {
   std::string best;
+  // A plausible typo: at most one edit per three letters (two for short
+  // words), and fewer edits than the word has letters ("zz" is no "a").
   size_t best_distance = std::max<size_t>(2, word.size() / 3) + 1;
   for (std::string_view c : candidates) {
     const size_t d = edit_distance(word, c);
-    if (d < best_distance) {
+    if (d < best_distance && d < word.size()) {
       best_distance = d;
       best = std::string(c);
     }
@@ -561,6 +593,19 @@ Scene parse_scene(std::string text, const std::string& filename, const std::file
   } catch (const std::bad_alloc&) {
     throw Error(SourceLocation{filename, 0, 0}, "out of memory while loading the scene");
   }
+}
+
+std::vector<Error> validate_scene(const std::filesystem::path& path) {
+  std::vector<Error> errors;
+  try {
+    const json::Document doc = json::parse_file(path.string());
+    SceneReader(doc, path.parent_path()).read(&errors);
+  } catch (const Error& e) {
+    errors.push_back(e);  // unreadable or not JSON: nothing more can be checked
+  } catch (const std::bad_alloc&) {
+    errors.push_back(Error(SourceLocation{path.string(), 0, 0}, "out of memory while loading the scene"));
+  }
+  return errors;
 }
 
 Scene load_scene(const std::filesystem::path& path) {

@@ -16,6 +16,11 @@
 namespace glint {
 
 Scene load_scene(const std::filesystem::path& path);
+
+// Every problem load_scene would find, in file order, without stopping at the
+// first (one per material, light, object or section; a JSON syntax error ends
+// the list). Empty when the scene is valid.
+std::vector<Error> validate_scene(const std::filesystem::path& path);
 // `filename` is what messages name; relative paths inside resolve against base_dir.
 Scene parse_scene(std::string text, const std::string& filename,
                   const std::filesystem::path& base_dir = {});
