@@ -225,6 +225,8 @@ int run_render(const RenderArgs& args) {
     throw Error(args.output_path + ": output folder " + out_dir.string() + " does not exist");
 
   Scene scene = load_scene(args.scene_path);
+  if (!args.quiet)
+    for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   RenderSettings& r = scene.render;
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;

@@ -5,58 +5,123 @@
 
 namespace glint {
 
+Triangle mesh_triangle(const Mesh& mesh, uint32_t triangle) {
+  const uint32_t* i = &mesh.indices[3 * static_cast<size_t>(triangle)];
+  return {to_vec3(mesh.positions[i[0]]), to_vec3(mesh.positions[i[1]]), to_vec3(mesh.positions[i[2]])};
+}
+
 namespace {
 
+// Closest hit among a mesh's triangles (ray in the mesh's space): through its
+// BVH when there is one, else every triangle.
+bool intersect_mesh(const Mesh& mesh, const Bvh* bvh, uint32_t index, const Ray& object_ray, Hit& hit) {
+  Ray ray = object_ray;
+  bool found = false;
+  auto test = [&](uint32_t triangle, Ray& r) {
+    const auto h = intersect_triangle(mesh_triangle(mesh, triangle), r);
+    if (!h) return false;
+    hit = Hit{h->t, index, h->b1, h->b2, 0, triangle};
+    r.t_max = h->t;
+    return true;
+  };
+  if (bvh) return traverse_closest(*bvh, ray, test);
+  for (uint32_t t = 0; t < mesh.triangle_count(); ++t) found |= test(t, ray);
+  return found;
+}
+
+bool occludes_mesh(const Mesh& mesh, const Bvh* bvh, const Ray& ray) {
+  auto hits = [&](uint32_t triangle, const Ray& r) {
+    return intersect_triangle(mesh_triangle(mesh, triangle), r).has_value();
+  };
+  if (bvh) return traverse_any(*bvh, ray, hits);
+  for (uint32_t t = 0; t < mesh.triangle_count(); ++t)
+    if (hits(t, ray)) return true;
+  return false;
+}
+
 // `ray` is in the object's own space.
-inline bool intersect_shape(const Scene& scene, const Object& object, uint32_t index, const Ray& ray,
-                            Hit& hit) {
+inline bool intersect_shape(const Scene& scene, const Object& object, uint32_t index, const Ray& ray, Hit& hit,
+                            const std::vector<Bvh>* mesh_bvhs) {
   switch (object.type) {
     case ShapeType::sphere:
       if (auto t = intersect_sphere(scene.spheres[object.shape], ray)) {
-        hit = Hit{*t, index, 0, 0, 0};
+        hit = Hit{*t, index, 0, 0, 0, 0};
         return true;
       }
       return false;
     case ShapeType::plane:
       if (auto t = intersect_plane(scene.planes[object.shape], ray)) {
-        hit = Hit{*t, index, 0, 0, 0};
+        hit = Hit{*t, index, 0, 0, 0, 0};
         return true;
       }
       return false;
     case ShapeType::triangle:
       if (auto h = intersect_triangle(scene.triangles[object.shape], ray)) {
-        hit = Hit{h->t, index, h->b1, h->b2, 0};
+        hit = Hit{h->t, index, h->b1, h->b2, 0, 0};
         return true;
       }
       return false;
     case ShapeType::box:
       if (auto h = intersect_box(scene.boxes[object.shape], ray)) {
-        hit = Hit{h->t, index, 0, 0, h->face};
+        hit = Hit{h->t, index, 0, 0, h->face, 0};
         return true;
       }
       return false;
+    case ShapeType::mesh:
+      return intersect_mesh(scene.meshes[object.shape], mesh_bvhs ? &(*mesh_bvhs)[object.shape] : nullptr, index,
+                            ray, hit);
   }
   return false;
 }
 
-}  // namespace
-
-bool intersect_object(const Scene& scene, uint32_t index, const Ray& world_ray, Hit& hit) {
-  const Object& object = scene.objects[index];
-  if (object.transform == kNoTransform) return intersect_shape(scene, object, index, world_ray, hit);
-  // Same t in both spaces: the direction is mapped, not renormalized.
+// The ray in the object's own space (same t: the direction is mapped, not renormalized).
+inline Ray to_object_space(const Scene& scene, const Object& object, const Ray& world_ray) {
+  if (object.transform == kNoTransform) return world_ray;
   const Transform& xf = scene.transforms[object.transform];
   Ray ray = world_ray;
   ray.origin = xf.inverse_point(world_ray.origin);
   ray.direction = xf.inverse_vector(world_ray.direction);
-  return intersect_shape(scene, object, index, ray, hit);
+  return ray;
+}
+
+}  // namespace
+
+bool intersect_object(const Scene& scene, uint32_t index, const Ray& world_ray, Hit& hit,
+                      const std::vector<Bvh>* mesh_bvhs) {
+  const Object& object = scene.objects[index];
+  if (object.transform == kNoTransform) return intersect_shape(scene, object, index, world_ray, hit, mesh_bvhs);
+  return intersect_shape(scene, object, index, to_object_space(scene, object, world_ray), hit, mesh_bvhs);
+}
+
+bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, const std::vector<Bvh>* mesh_bvhs) {
+  const Object& object = scene.objects[index];
+  if (object.type == ShapeType::mesh)
+    return occludes_mesh(scene.meshes[object.shape], mesh_bvhs ? &(*mesh_bvhs)[object.shape] : nullptr,
+                         to_object_space(scene, object, world_ray));
+  Hit scratch;
+  return intersect_object(scene, index, world_ray, scratch, mesh_bvhs);
 }
 
 namespace {
 
+// Two levels: one BVH per mesh (built once, shared by its instances) and one
+// over all finite objects; infinite planes are tested apart.
 class BvhAccelerator final : public Accelerator {
  public:
   BvhAccelerator(const Scene& scene, const AcceleratorOptions& options) : scene_(scene) {
+    BvhBuildOptions build_options;
+    build_options.threads = options.threads;
+    mesh_bvhs_.reserve(scene.meshes.size());
+    for (const Mesh& mesh : scene.meshes) {
+      std::vector<Bounds3> triangle_bounds(mesh.triangle_count());
+      for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+        const Triangle tri = mesh_triangle(mesh, t);
+        triangle_bounds[t].extend(tri.v0);
+        triangle_bounds[t].extend(tri.v1);
+        triangle_bounds[t].extend(tri.v2);
+      }
+      mesh_bvhs_.push_back(build_bvh(triangle_bounds, build_options, mesh.bounds.center()));
+    }
     std::vector<Bounds3> bounds(scene.objects.size());
     for (uint32_t i = 0; i < scene.objects.size(); ++i) {
       if (scene.objects[i].type == ShapeType::plane)
@@ -64,8 +129,6 @@ class BvhAccelerator final : public Accelerator {
       else
         bounds[i] = object_bounds(scene, i);
     }
-    BvhBuildOptions build_options;
-    build_options.threads = options.threads;
     bvh_ = build_bvh(bounds, build_options, scene.camera.position);
   }
 
@@ -80,7 +143,7 @@ class BvhAccelerator final : public Accelerator {
       }
     }
     found |= traverse_closest(bvh_, ray, [&](uint32_t object, Ray& r) {
-      if (!intersect_object(scene_, object, r, best)) return false;
+      if (!intersect_object(scene_, object, r, best, &mesh_bvhs_)) return false;
       r.t_max = best.t;
       return true;
     });
@@ -91,12 +154,11 @@ class BvhAccelerator final : public Accelerator {
   bool occluded(const Ray& ray) const override { return first_blocker(ray).has_value(); }
 
   std::optional<uint32_t> first_blocker(const Ray& ray) const override {
-    Hit scratch;
     for (uint32_t p : planes_)
-      if (intersect_object(scene_, p, ray, scratch)) return p;
+      if (occludes_object(scene_, p, ray)) return p;
     std::optional<uint32_t> blocker;
     traverse_any(bvh_, ray, [&](uint32_t object, const Ray& r) {
-      if (!intersect_object(scene_, object, r, scratch)) return false;
+      if (!occludes_object(scene_, object, r, &mesh_bvhs_)) return false;
       blocker = object;
       return true;
     });
@@ -104,13 +166,17 @@ class BvhAccelerator final : public Accelerator {
   }
 
   size_t memory_bytes() const override {
-    return bvh_.nodes.capacity() * sizeof(Bvh4Node) + bvh_.primitives.capacity() * sizeof(uint32_t) +
-           planes_.capacity() * sizeof(uint32_t);
+    size_t bytes = bvh_.nodes.capacity() * sizeof(Bvh4Node) + bvh_.primitives.capacity() * sizeof(uint32_t) +
+                   planes_.capacity() * sizeof(uint32_t);
+    for (const Bvh& b : mesh_bvhs_)
+      bytes += b.nodes.capacity() * sizeof(Bvh4Node) + b.primitives.capacity() * sizeof(uint32_t);
+    return bytes;
   }
 
  private:
   const Scene& scene_;
   std::vector<uint32_t> planes_;
+  std::vector<Bvh> mesh_bvhs_;
   Bvh bvh_;
 };
 
@@ -133,9 +199,8 @@ class BruteForceAccelerator final : public Accelerator {
   }
   bool occluded(const Ray& ray) const override { return first_blocker(ray).has_value(); }
   std::optional<uint32_t> first_blocker(const Ray& ray) const override {
-    Hit scratch;
     for (uint32_t i = 0; i < scene_.objects.size(); ++i)
-      if (intersect_object(scene_, i, ray, scratch)) return i;
+      if (occludes_object(scene_, i, ray)) return i;
     return std::nullopt;
   }
   size_t memory_bytes() const override { return 0; }

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "glint/math/ray.h"
 #include "glint/scene/scene.h"
@@ -17,11 +18,22 @@ struct Hit {
   uint32_t object = 0;
   double b1 = 0, b2 = 0;  // triangle barycentrics
   int face = 0;           // box face
+  uint32_t primitive = 0; // mesh objects: the triangle
 };
+
+struct Bvh;
+
+// A mesh triangle in the mesh's own space, as doubles.
+Triangle mesh_triangle(const Mesh& mesh, uint32_t triangle);
 
 // One object against a world-space ray (object-space for transformed shapes
 // is handled inside). Fills `hit` and returns true when nearer than ray.t_max.
-bool intersect_object(const Scene& scene, uint32_t object, const Ray& ray, Hit& hit);
+// `mesh_bvhs` (one per Scene::meshes entry) speeds up mesh objects; without
+// it every triangle is tested.
+bool intersect_object(const Scene& scene, uint32_t object, const Ray& ray, Hit& hit,
+                      const std::vector<Bvh>* mesh_bvhs = nullptr);
+bool occludes_object(const Scene& scene, uint32_t object, const Ray& ray,
+                     const std::vector<Bvh>* mesh_bvhs = nullptr);
 
 class Accelerator {
  public:

@@ -550,6 +550,10 @@ Document parse(std::string text, std::string filename) {
     size_t first = base;
     while (first < text.size() && is_whitespace(text[first])) ++first;
     if (first == text.size()) throw Error(data->location(base), "empty file: expected a JSON value");
+    // nlohmann would silently skip a second BOM too, shifting every position.
+    if (base != 0 && starts_with(std::string_view(text).substr(base), "\xEF\xBB\xBF")) {
+      throw Error(data->location(base), "syntax error: unexpected byte-order mark (only one may start the file)");
+    }
 
     // Capacity for scene-like files (a node and a child index per ~7 bytes,
     // strings ~1/3 of the bytes) with headroom, so the big arrays are rarely

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "glint/io/json.h"
+#include "glint/io/mesh_file.h"
 
 namespace glint {
 
@@ -472,6 +473,37 @@ class SceneReader {
     for (size_t i = 0; i < list.size(); ++i) collect([&] { read_object(list[i], index("objects", i)); });
   }
 
+  // Each mesh file is read once, however many objects use it (instances).
+  uint32_t load_mesh(const Value& v, const Path& path) {
+    const std::string name = string(v, path);
+    if (name.empty()) fail(v, path, "must name a mesh file");
+    std::filesystem::path file(name);
+    if (file.is_relative()) file = base_dir_ / file;
+    std::error_code ec;
+    const std::filesystem::path key = std::filesystem::weakly_canonical(file, ec);
+    const std::string cache_key = ec ? file.string() : key.string();
+    if (auto it = mesh_index_.find(cache_key); it != mesh_index_.end()) return it->second;
+    if (!std::filesystem::exists(file, ec)) fail(v, path, "mesh file " + quote_text(file.string()) + " not found");
+    MeshFile loaded = load_mesh_file(file);
+    for (std::string& w : loaded.warnings) scene_.warnings.push_back(std::move(w));
+    // The file's materials join the scene's; triangles without one use the default.
+    std::vector<uint32_t> material_of(loaded.materials.size());
+    for (size_t i = 0; i < loaded.materials.size(); ++i) material_of[i] = add_material(scene_, loaded.materials[i]);
+    Mesh mesh;
+    mesh.file = file.string();
+    mesh.positions = std::move(loaded.positions);
+    mesh.indices = std::move(loaded.indices);
+    mesh.corner_normals = std::move(loaded.corner_normals);
+    mesh.triangle_material.resize(mesh.triangle_count(), 0);
+    for (size_t t = 0; t < loaded.triangle_material.size() && t < mesh.triangle_count(); ++t) {
+      const int32_t m = loaded.triangle_material[t];
+      if (m >= 0 && static_cast<size_t>(m) < material_of.size()) mesh.triangle_material[t] = material_of[m];
+    }
+    const uint32_t index = add_mesh(scene_, std::move(mesh));
+    mesh_index_[cache_key] = index;
+    return index;
+  }
+
   uint32_t material_ref(const Value& v, const Path& path) const {
     const std::string name = string(v, path);
     auto it = material_index_.find(name);
@@ -541,8 +573,14 @@ class SceneReader {
         object = add_box(scene_, b, material, transform);
         break;
       }
-      case 4:
-        fail(type_value, join(path, "type"), "mesh objects are not supported yet in this build");
+      case 4: {
+        const Value file = require(v, path, "file");
+        const uint32_t mesh = load_mesh(file, join(path, "file"));
+        bool smooth = true;
+        if (auto x = v.find("smooth")) smooth = boolean(*x, join(path, "smooth"));
+        object = add_mesh_object(scene_, mesh, v.find("material") ? material : kMeshMaterials, smooth, transform);
+        break;
+      }
     }
     if (auto n = v.find("name")) scene_.object_names[object] = string(*n, join(path, "name"));
   }
@@ -550,6 +588,7 @@ class SceneReader {
   const json::Document& doc_;
   std::filesystem::path base_dir_;
   std::vector<Error>* errors_ = nullptr;
+  std::map<std::string, uint32_t> mesh_index_;  // canonical path -> Scene::meshes
   Scene scene_;
   std::map<std::string, uint32_t, std::less<>> material_index_;
 };

@@ -54,4 +54,13 @@ inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - 2.0 * dot(d, n) *
 
 using Color = Vec3;
 
+// Compact storage for mesh data (positions, normals); math is done in Vec3.
+struct Vec3f {
+  float x = 0, y = 0, z = 0;
+};
+inline Vec3 to_vec3(const Vec3f& v) { return {v.x, v.y, v.z}; }
+inline Vec3f to_vec3f(const Vec3& v) {
+  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+}
+
 }  // namespace glint

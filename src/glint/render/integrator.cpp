@@ -48,6 +48,36 @@ SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
       sp.geometric_normal = normalize(cross(e1, e2));
       break;
     }
+    case ShapeType::mesh: {
+      const Mesh& mesh = scene.meshes[object.shape];
+      const Triangle t = mesh_triangle(mesh, hit.primitive);
+      const Vec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0;
+      const Vec3 p_obj = t.v0 + hit.b1 * e1 + hit.b2 * e2;
+      Vec3 ng = cross(e1, e2);
+      const Vec3f* corner = &mesh.corner_normals[3 * static_cast<size_t>(hit.primitive)];
+      Vec3 n0 = to_vec3(corner[0]), n1 = to_vec3(corner[1]), n2 = to_vec3(corner[2]);
+      if (object.transform == kNoTransform) {
+        sp.p = p_obj;
+      } else {
+        // Vertex normals through the inverse transpose, each normalized before
+        // interpolation (the contract's order).
+        const Transform& xf = scene.transforms[object.transform];
+        sp.p = xf.point(p_obj);
+        ng = xf.normal(ng);
+        n0 = normalize(xf.normal(n0));
+        n1 = normalize(xf.normal(n1));
+        n2 = normalize(xf.normal(n2));
+      }
+      sp.geometric_normal = normalize(ng);
+      sp.shading_normal = sp.geometric_normal;
+      if (object.smooth) {
+        const Vec3 n = (1.0 - hit.b1 - hit.b2) * n0 + hit.b1 * n1 + hit.b2 * n2;
+        const double len = length(n);
+        if (len > 0.0 && std::isfinite(len)) sp.shading_normal = n / len;
+      }
+      if (object.material == kMeshMaterials) sp.material = mesh.triangle_material[hit.primitive];
+      return sp;
+    }
     case ShapeType::plane: {
       const Plane& pl = scene.planes[object.shape];
       sp.p = ray.at(hit.t);
@@ -188,10 +218,14 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, 
     trace->surface = sp;
     trace->normal = n;
   }
+  ShadeTerms out;
+  if (m.unlit) {  // MTL illum 0: the color is Kd, no lights, no shadows, no rays
+    out.ambient = m.diffuse;
+    return out;
+  }
 
   // Each light's terms are summed on their own, then added: the contract's
   // "sum over lights", in the same order whether or not a trace is kept.
-  ShadeTerms out;
   for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
     const Light& light = scene_.lights[li];
     ShadeTerms terms;

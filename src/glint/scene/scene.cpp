@@ -74,6 +74,20 @@ uint32_t add_box(Scene& scene, const Box& box, uint32_t material,
                     add_transform(scene, transform));
 }
 
+uint32_t add_mesh(Scene& scene, Mesh mesh) {
+  mesh.bounds = Bounds3{};
+  for (const Vec3f& p : mesh.positions) mesh.bounds.extend(to_vec3(p));
+  scene.meshes.push_back(std::move(mesh));
+  return static_cast<uint32_t>(scene.meshes.size() - 1);
+}
+
+uint32_t add_mesh_object(Scene& scene, uint32_t mesh, uint32_t material, bool smooth,
+                         const std::optional<Transform>& transform) {
+  const uint32_t index = add_object(scene, ShapeType::mesh, mesh, material, add_transform(scene, transform));
+  scene.objects[index].smooth = smooth;
+  return index;
+}
+
 Bounds3 object_bounds(const Scene& scene, uint32_t index) {
   const Object& object = scene.objects[index];
   Bounds3 b;
@@ -95,6 +109,9 @@ Bounds3 object_bounds(const Scene& scene, uint32_t index) {
       b.extend(t.v2);
       break;
     }
+    case ShapeType::mesh:
+      b = scene.meshes[object.shape].bounds;
+      break;
     case ShapeType::plane:
       return b;
   }

@@ -48,6 +48,7 @@ struct Material {
   double transparency = 0.0;
   double ior = 1.5;
   bool fresnel = false;
+  bool unlit = false;  // MTL illum 0: the color is `diffuse`, no lights, no shadows
 };
 
 enum class LightType { ambient, point, directional, spot, area };
@@ -67,20 +68,36 @@ struct Light {
   std::string name;
 };
 
-enum class ShapeType { sphere, plane, triangle, box };
+enum class ShapeType : uint8_t { sphere, plane, triangle, box, mesh };
 
 struct Sphere { Vec3 center; double radius = 1.0; };
 struct Plane { Vec3 point; Vec3 normal{0, 1, 0}; };  // world space, unit normal
 struct Triangle { Vec3 v0, v1, v2; };                 // world space
 struct Box { Vec3 lo, hi; };                          // object space
 
+// A triangle mesh in its own space, loaded once per file and shared by every
+// object that uses it (each object an instance with its own transform).
+struct Mesh {
+  std::string file;
+  std::vector<Vec3f> positions;
+  std::vector<uint32_t> indices;            // 3 per triangle
+  std::vector<Vec3f> corner_normals;        // 3 per triangle, unit
+  std::vector<uint32_t> triangle_material;  // per triangle, into Scene::materials
+  Bounds3 bounds;                           // of the positions, set by add_mesh
+
+  size_t triangle_count() const { return indices.size() / 3; }
+};
+
 inline constexpr uint32_t kNoTransform = UINT32_MAX;
+// A mesh object's `material` when it names none: each triangle uses its own.
+inline constexpr uint32_t kMeshMaterials = UINT32_MAX;
 
 // One object of the scene file. `shape` indexes the vector of its type;
 // `transform` indexes Scene::transforms (spheres and boxes keep theirs and are
 // intersected in object space; planes and triangles are baked into world space).
 struct Object {
   ShapeType type = ShapeType::sphere;
+  bool smooth = true;  // meshes: interpolate vertex normals
   uint32_t shape = 0;
   uint32_t material = 0;
   uint32_t transform = kNoTransform;
@@ -96,7 +113,9 @@ struct Scene {
   std::vector<Plane> planes;
   std::vector<Triangle> triangles;
   std::vector<Box> boxes;
+  std::vector<Mesh> meshes;
   std::vector<Transform> transforms;
+  std::vector<std::string> warnings;  // recoverable problems met while loading
   // Names the scene file gave objects (most have none; kept apart so Object
   // stays 16 bytes for scenes of millions of objects).
   std::unordered_map<uint32_t, std::string> object_names;
@@ -114,6 +133,10 @@ uint32_t add_triangle(Scene& scene, const Triangle& triangle, uint32_t material 
                       const std::optional<Transform>& transform = std::nullopt);
 uint32_t add_box(Scene& scene, const Box& box, uint32_t material = 0,
                  const std::optional<Transform>& transform = std::nullopt);
+
+uint32_t add_mesh(Scene& scene, Mesh mesh);  // computes mesh.bounds
+uint32_t add_mesh_object(Scene& scene, uint32_t mesh, uint32_t material = kMeshMaterials, bool smooth = true,
+                         const std::optional<Transform>& transform = std::nullopt);
 
 // World-space bounds of a finite object (empty for planes).
 Bounds3 object_bounds(const Scene& scene, uint32_t object);

@@ -1,0 +1,70 @@
+// libFuzzer target for a mesh file reader: the input is written to a scratch
+// file named mesh.GLINT_MESH_EXT (the loader picks its reader by extension)
+// and read with glint::load_mesh_file, which must return a mesh or throw
+// glint::Error, and nothing else: no other exception, crash, sanitizer
+// report, hang or absurd allocation. Built as fuzz_mesh_obj and fuzz_mesh_ply.
+// For OBJ, whatever follows a line "#MTL" is written beside it as m.mtl, so
+// the fuzzer mutates an OBJ and the MTL it names ("mtllib m.mtl") together.
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "glint/error.h"
+#include "glint/io/mesh_file.h"
+
+namespace {
+
+std::filesystem::path scratch_dir;
+std::filesystem::path scratch_file;
+
+void remove_scratch() {
+  std::error_code ec;
+  std::filesystem::remove_all(scratch_dir, ec);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  const char* tmp = std::getenv("TMPDIR");
+  std::string dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/glint-fuzz-XXXXXX";
+  if (!mkdtemp(dir.data())) {
+    std::perror("fuzz_mesh: mkdtemp");
+    std::abort();
+  }
+  scratch_dir = dir;
+  scratch_file = scratch_dir / ("mesh." GLINT_MESH_EXT);
+  std::atexit(remove_scratch);
+  return 0;
+}
+
+static bool write_file(const std::filesystem::path& path, std::string_view bytes) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) return false;
+  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  return std::fclose(f) == 0 && written;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  std::string_view mesh(reinterpret_cast<const char*>(data), size), mtl;
+  if (std::string_view(GLINT_MESH_EXT) == "obj") {
+    const size_t split = mesh.find("\n#MTL\n");
+    if (split != std::string_view::npos) {
+      mtl = mesh.substr(split + 6);
+      mesh = mesh.substr(0, split + 1);
+    }
+  }
+  // A full /tmp is not a finding.
+  if (!write_file(scratch_file, mesh) || !write_file(scratch_dir / "m.mtl", mtl)) return 0;
+  try {
+    glint::MeshFile mesh = glint::load_mesh_file(scratch_file);
+    (void)mesh;
+  } catch (const glint::Error&) {
+  }
+  return 0;
+}

@@ -1,0 +1,1484 @@
+// Mesh files into MeshFile: the libraries parse, this file applies the contract.
+// - .obj (+ .mtl): tinyobjloader (fastest measured; keeps the file's vertex
+//   indices). Its gaps are covered here: it reads "nan"/"inf" as 0 and "Kd 0.5"
+//   as red, and cannot say which MTL keys were given, so short scans of the
+//   text find those (and file:line for errors, on the error path only).
+// - .ply, .gltf, .glb: assimp. Its PLY reader crashes, aborts or hangs on
+//   truncated or inconsistent files, so every PLY is checked first against its
+//   own header (counts against the file size, every record present, indices
+//   in range) by a structural walk that stores nothing.
+// Then, for every format: polygons triangulated (quads on the shorter
+// diagonal, larger polygons as fans), NaN/Inf vertices used by a triangle are
+// errors, zero-area triangles dropped with one counted warning, corner normals
+// from the file or angle-weighted per vertex index, unused vertices removed.
+#include "glint/io/mesh_file.h"
+
+#include <tiny_obj_loader.h>
+
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
+#include <assimp/material.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <optional>
+#include <charconv>
+#include <cmath>
+#include <cfloat>
+#include <cstring>
+#include <functional>
+#include <istream>
+#include <map>
+#include <mutex>
+#include <new>
+#include <set>
+#include <streambuf>
+#include <string_view>
+#include <system_error>
+
+#include "glint/error.h"
+#include "glint/io/file_io.h"
+
+namespace glint {
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---------------------------------------------------------------------------
+// Shared helpers
+// ---------------------------------------------------------------------------
+
+[[noreturn]] void fail(const std::string& file, const std::string& message, int line = 0, int column = 0) {
+  throw Error(SourceLocation{file, line, column}, message);
+}
+
+std::string plural(size_t n, const char* singular, const char* plural_form) {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural_form);
+}
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string with_line(const std::string& file, int line) {
+  return line > 0 ? file + ":" + std::to_string(line) : file;
+}
+
+// Lists up to three names, then "and N more".
+std::string name_list(const std::vector<std::string>& names) {
+  std::string out;
+  for (size_t i = 0; i < names.size() && i < 3; ++i) out += (i ? ", '" : "'") + names[i] + "'";
+  if (names.size() > 3) out += " and " + std::to_string(names.size() - 3) + " more";
+  return out;
+}
+
+bool is_finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Lines as tinyobjloader splits them: "\n", "\r\n" or a lone "\r" ends one.
+class LineCursor {
+ public:
+  explicit LineCursor(std::string_view text) : text_(text) {}
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    const size_t start = pos_;
+    while (pos_ < text_.size() && text_[pos_] != '\n' && text_[pos_] != '\r') ++pos_;
+    line = text_.substr(start, pos_ - start);
+    if (pos_ < text_.size()) {
+      if (text_[pos_] == '\r' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '\n') ++pos_;
+      ++pos_;
+    }
+    ++number_;
+    return true;
+  }
+  int number() const { return number_; }  // of the line `next` returned, 1-based
+
+ private:
+  std::string_view text_;
+  size_t pos_ = 0;
+  int number_ = 0;
+};
+
+bool is_blank(char c) { return c == ' ' || c == '\t'; }
+
+std::string_view skip_blanks(std::string_view s) {
+  size_t i = 0;
+  while (i < s.size() && is_blank(s[i])) ++i;
+  return s.substr(i);
+}
+
+// Whitespace-separated tokens of a line, with their 1-based columns.
+struct Token {
+  std::string_view text;
+  int column;
+};
+std::vector<Token> tokens_of(std::string_view line, size_t max_tokens = SIZE_MAX) {
+  std::vector<Token> out;
+  size_t i = 0;
+  while (i < line.size() && out.size() < max_tokens) {
+    while (i < line.size() && (is_blank(line[i]) || line[i] == '\r' || line[i] == '\v' || line[i] == '\f')) ++i;
+    if (i >= line.size()) break;
+    const size_t start = i;
+    while (i < line.size() && !(is_blank(line[i]) || line[i] == '\r' || line[i] == '\v' || line[i] == '\f')) ++i;
+    out.push_back({line.substr(start, i - start), static_cast<int>(start) + 1});
+  }
+  return out;
+}
+
+// A number as strtod reads it (leading '+' allowed); nullopt if it is not one.
+// Out-of-range values come back as +-inf, so callers see them as non-finite.
+std::optional<double> parse_number(std::string_view s) {
+  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
+  if (s.empty()) return std::nullopt;
+  double value = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (end != s.data() + s.size()) return std::nullopt;
+  if (ec == std::errc::result_out_of_range) {
+    // Underflow reads as zero, overflow as infinity.
+    const std::string digits(s);
+    const double approx = std::strtod(digits.c_str(), nullptr);
+    return std::isinf(approx) ? approx : 0.0;
+  }
+  if (ec != std::errc()) return std::nullopt;
+  return value;
+}
+
+std::optional<int64_t> parse_integer(std::string_view s) {
+  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
+  int64_t value = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
+  return value;
+}
+
+// True when `text` holds `word` in any letter case (word given in lower case).
+bool contains_word_ci(std::string_view text, std::string_view word) {
+  const char first_lower = word[0];
+  const char first_upper = static_cast<char>(std::toupper(static_cast<unsigned char>(first_lower)));
+  for (char first : {first_lower, first_upper}) {
+    size_t pos = 0;
+    while ((pos = text.find(first, pos)) != std::string_view::npos) {
+      if (pos + word.size() <= text.size()) {
+        bool match = true;
+        for (size_t k = 1; k < word.size() && match; ++k)
+          match = std::tolower(static_cast<unsigned char>(text[pos + k])) == word[k];
+        if (match) return true;
+      }
+      ++pos;
+    }
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------
+// The common back end: triangles as the libraries gave them -> MeshFile
+// ---------------------------------------------------------------------------
+
+// A vertex whose text was "nan"/"inf" (or overflowed) where the library read a
+// finite number; an error only if a triangle uses it.
+struct BadVertexText {
+  uint32_t vertex;
+  int line, column;
+  std::string text;
+};
+
+struct RawMesh {
+  std::vector<Vec3f> positions;
+  std::vector<uint32_t> indices;        // 3 per triangle
+  std::vector<Vec3f> normals;           // 3 per triangle when has_normals; (0,0,0): none for that corner
+  bool has_normals = false;
+  std::vector<int32_t> triangle_material;  // per triangle
+  std::vector<Material> materials;
+  std::vector<std::string> warnings;
+  std::vector<BadVertexText> bad_vertex_text;
+  // The error for a used vertex that is NaN/Inf in memory (file:line where known).
+  std::function<Error(uint32_t vertex)> nonfinite_vertex_error;
+  size_t small_faces = 0;   // faces with fewer than 3 vertices (skipped)
+  size_t non_faces = 0;     // points and lines
+};
+
+// Splits a polygon of n corners into triangles of corner numbers: quads along
+// the shorter diagonal (as tinyobjloader does), larger polygons as a fan.
+template <typename Position, typename Emit>
+void triangulate(size_t n, Position position, Emit emit) {
+  if (n < 3) return;
+  if (n == 3) {
+    emit(0, 1, 2);
+  } else if (n == 4) {
+    auto dist2 = [](const Vec3f& a, const Vec3f& b) {
+      const double dx = double(a.x) - b.x, dy = double(a.y) - b.y, dz = double(a.z) - b.z;
+      return dx * dx + dy * dy + dz * dz;
+    };
+    if (dist2(position(0), position(2)) < dist2(position(1), position(3))) {
+      emit(0, 1, 2);
+      emit(0, 2, 3);
+    } else {
+      emit(0, 1, 3);
+      emit(1, 2, 3);
+    }
+  } else {
+    for (size_t k = 1; k + 1 < n; ++k) emit(0, k, k + 1);
+  }
+}
+
+struct Vec3d {
+  double x, y, z;
+};
+inline Vec3d to_d(const Vec3f& v) { return {v.x, v.y, v.z}; }
+inline Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3d cross(const Vec3d& a, const Vec3d& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double dot(const Vec3d& a, const Vec3d& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double length(const Vec3d& a) { return std::sqrt(dot(a, a)); }
+
+MeshFile finish(RawMesh raw, const std::string& file) {
+  const size_t vertex_count = raw.positions.size();
+  size_t triangle_count = raw.indices.size() / 3;
+  if (triangle_count == 0) {
+    if (raw.non_faces > 0 || raw.small_faces > 0) fail(file, "no triangles (only points or lines)");
+    if (vertex_count > 0) fail(file, "no triangles (vertices only)");
+    fail(file, "no triangles (no meshes in the file)");
+  }
+  for (uint32_t i : raw.indices)
+    if (i >= vertex_count)
+      fail(file, "vertex index " + std::to_string(i) + " out of range (" + plural(vertex_count, "vertex", "vertices") +
+                     ")");
+
+  // NaN/Inf vertices used by a triangle (degenerate or not) are errors.
+  std::vector<uint8_t> used(vertex_count, 0);
+  for (uint32_t i : raw.indices) used[i] = 1;
+  for (const BadVertexText& bad : raw.bad_vertex_text)
+    if (bad.vertex < vertex_count && used[bad.vertex])
+      fail(file, "vertex coordinate '" + bad.text + "' is not a finite number", bad.line, bad.column);
+  for (size_t v = 0; v < vertex_count; ++v) {
+    if (used[v] && !is_finite(raw.positions[v])) {
+      if (raw.nonfinite_vertex_error) throw raw.nonfinite_vertex_error(static_cast<uint32_t>(v));
+      fail(file, "vertex " + std::to_string(v) + " has a non-finite coordinate");
+    }
+  }
+
+  // Drop zero-area triangles; face normals and corner angles of the others.
+  MeshFile out;
+  std::vector<uint8_t> keep(triangle_count, 1);
+  size_t dropped = 0;
+  std::vector<Vec3d> face_normal(triangle_count);
+  for (size_t t = 0; t < triangle_count; ++t) {
+    const Vec3d p0 = to_d(raw.positions[raw.indices[3 * t]]);
+    const Vec3d p1 = to_d(raw.positions[raw.indices[3 * t + 1]]);
+    const Vec3d p2 = to_d(raw.positions[raw.indices[3 * t + 2]]);
+    const Vec3d n = cross(sub(p1, p0), sub(p2, p0));
+    const double len = length(n);
+    if (!(len > 0) || !std::isfinite(len)) {
+      keep[t] = 0;
+      ++dropped;
+      continue;
+    }
+    face_normal[t] = {n.x / len, n.y / len, n.z / len};
+  }
+  if (dropped > 0)
+    raw.warnings.push_back(file + ": dropped " + plural(dropped, "degenerate triangle", "degenerate triangles"));
+  if (dropped == triangle_count)
+    fail(file, triangle_count == 1 ? std::string("no triangles (the only one is degenerate)")
+                                   : "no triangles (all " + std::to_string(triangle_count) + " are degenerate)");
+
+  // Which corners need a computed normal (no file normal, or a zero/non-finite one).
+  auto file_normal = [&](size_t corner, Vec3d& n) {
+    if (!raw.has_normals) return false;
+    n = to_d(raw.normals[corner]);
+    const double len = length(n);
+    if (!(len > 0) || !std::isfinite(len)) return false;
+    n = {n.x / len, n.y / len, n.z / len};
+    return true;
+  };
+  bool need_computed = !raw.has_normals;
+  if (!need_computed) {
+    Vec3d n;
+    for (size_t t = 0; t < triangle_count && !need_computed; ++t)
+      if (keep[t])
+        for (int k = 0; k < 3; ++k)
+          if (!file_normal(3 * t + k, n)) need_computed = true;
+  }
+
+  // Angle-weighted vertex normals per vertex index: each face adds its unit
+  // normal times its interior angle at the vertex. All three cross products
+  // of a triangle's edges have the same length, so angle = atan2(|n|, dot).
+  std::vector<Vec3d> vertex_normal;
+  if (need_computed) {
+    vertex_normal.assign(vertex_count, Vec3d{0, 0, 0});
+    for (size_t t = 0; t < triangle_count; ++t) {
+      if (!keep[t]) continue;
+      const uint32_t i[3] = {raw.indices[3 * t], raw.indices[3 * t + 1], raw.indices[3 * t + 2]};
+      const Vec3d p[3] = {to_d(raw.positions[i[0]]), to_d(raw.positions[i[1]]), to_d(raw.positions[i[2]])};
+      const double twice_area = length(cross(sub(p[1], p[0]), sub(p[2], p[0])));
+      for (int k = 0; k < 3; ++k) {
+        const Vec3d a = sub(p[(k + 1) % 3], p[k]);
+        const Vec3d b = sub(p[(k + 2) % 3], p[k]);
+        const double angle = std::atan2(twice_area, dot(a, b));
+        Vec3d& acc = vertex_normal[i[k]];
+        acc.x += face_normal[t].x * angle;
+        acc.y += face_normal[t].y * angle;
+        acc.z += face_normal[t].z * angle;
+      }
+    }
+  }
+
+  // Remove vertices no kept triangle uses.
+  std::vector<uint32_t> remap(vertex_count, UINT32_MAX);
+  uint32_t next = 0;
+  for (size_t t = 0; t < triangle_count; ++t)
+    if (keep[t])
+      for (int k = 0; k < 3; ++k) {
+        uint32_t& r = remap[raw.indices[3 * t + k]];
+        if (r == UINT32_MAX) r = next++;
+      }
+  // Keep the file's order of vertices.
+  {
+    uint32_t ordinal = 0;
+    for (size_t v = 0; v < vertex_count; ++v)
+      if (remap[v] != UINT32_MAX) remap[v] = ordinal++;
+  }
+  out.positions.resize(next);
+  for (size_t v = 0; v < vertex_count; ++v)
+    if (remap[v] != UINT32_MAX) out.positions[remap[v]] = raw.positions[v];
+
+  const size_t kept = triangle_count - dropped;
+  out.indices.reserve(3 * kept);
+  out.corner_normals.reserve(3 * kept);
+  out.triangle_material.reserve(kept);
+  for (size_t t = 0; t < triangle_count; ++t) {
+    if (!keep[t]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = raw.indices[3 * t + k];
+      out.indices.push_back(remap[v]);
+      Vec3d n;
+      if (!file_normal(3 * t + k, n)) {
+        n = vertex_normal[v];
+        const double len = length(n);
+        // Opposite faces can cancel at a vertex: the face's own normal then.
+        n = len > 0 && std::isfinite(len) ? Vec3d{n.x / len, n.y / len, n.z / len} : face_normal[t];
+      }
+      out.corner_normals.push_back({static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)});
+    }
+    out.triangle_material.push_back(t < raw.triangle_material.size() ? raw.triangle_material[t] : -1);
+  }
+
+  // Materials no triangle uses and that have no name are noise (tinyobjloader
+  // adds one for an empty .mtl): drop those, keep the rest in file order.
+  std::vector<int32_t> material_map(raw.materials.size(), -1);
+  std::vector<uint8_t> material_used(raw.materials.size(), 0);
+  for (int32_t m : out.triangle_material)
+    if (m >= 0 && static_cast<size_t>(m) < raw.materials.size()) material_used[m] = 1;
+  for (size_t m = 0; m < raw.materials.size(); ++m) {
+    if (raw.materials[m].name.empty() && !material_used[m]) continue;
+    material_map[m] = static_cast<int32_t>(out.materials.size());
+    out.materials.push_back(std::move(raw.materials[m]));
+  }
+  for (int32_t& m : out.triangle_material)
+    m = (m >= 0 && static_cast<size_t>(m) < material_map.size()) ? material_map[m] : -1;
+
+  if (raw.small_faces > 0)
+    raw.warnings.push_back(file + ": skipped " + plural(raw.small_faces, "face", "faces") +
+                           " with fewer than 3 vertices");
+  out.warnings = std::move(raw.warnings);
+  return out;
+}
+
+// ---------------------------------------------------------------------------
+// Wavefront OBJ and MTL (tinyobjloader)
+// ---------------------------------------------------------------------------
+
+// An istream over bytes in memory, without copying them.
+class MemoryStreambuf : public std::streambuf {
+ public:
+  MemoryStreambuf(const char* data, size_t size) {
+    char* p = const_cast<char*>(data);
+    setg(p, p, p + size);
+  }
+};
+
+// What tinyobjloader's material_t cannot tell: which keys a newmtl block gave,
+// whether a color had one value (the MTL spec: g = b = r), and where.
+struct MtlBlock {
+  std::string name;
+  int line = 0;
+  std::set<std::string> keys;    // "Ka", "Kd", "Ks", "Tf", "Ns", "Ni", "d", "Tr", "illum"
+  std::set<std::string> single;  // colors given as one number
+  int illum_line = 0, ns_line = 0;
+};
+
+// Mirrors tinyobj::LoadMtl's blocks: a newmtl flushes the block before it if
+// that one has a name; the last block is always flushed.
+std::vector<MtlBlock> scan_mtl(std::string_view text) {
+  std::vector<MtlBlock> blocks;
+  MtlBlock current;
+  LineCursor lines(text);
+  std::string_view line;
+  auto key_is = [](std::string_view t, std::string_view key) {
+    return t.size() > key.size() && t.substr(0, key.size()) == key && is_blank(t[key.size()]);
+  };
+  while (lines.next(line)) {
+    while (!line.empty() && is_blank(line.back())) line.remove_suffix(1);
+    const std::string_view t = skip_blanks(line);
+    if (t.empty() || t[0] == '#') continue;
+    if (key_is(t, "newmtl")) {
+      if (!current.name.empty()) blocks.push_back(std::move(current));
+      current = MtlBlock{};
+      current.name = std::string(t.substr(7));
+      current.line = lines.number();
+      continue;
+    }
+    for (const char* color : {"Ka", "Kd", "Ks", "Tf", "Kt"}) {
+      if (key_is(t, color)) {
+        const std::string key = std::string(color) == "Kt" ? "Tf" : color;
+        current.keys.insert(key);
+        if (tokens_of(t.substr(2)).size() == 1) current.single.insert(key);
+        else current.single.erase(key);
+      }
+    }
+    for (const char* scalar : {"Ns", "Ni", "d", "Tr"})
+      if (key_is(t, scalar)) current.keys.insert(scalar);
+    if (key_is(t, "Ns")) current.ns_line = lines.number();
+    if (key_is(t, "illum")) {
+      current.keys.insert("illum");
+      current.illum_line = lines.number();
+    }
+  }
+  blocks.push_back(std::move(current));
+  return blocks;
+}
+
+// Per-file findings while mapping materials, reported once each.
+struct MtlReport {
+  size_t ns_below_one = 0;
+  int ns_line = 0;
+  size_t illum_8_to_10 = 0;
+  int illum_line = 0;
+  size_t illum_unknown = 0;
+  int illum_unknown_line = 0;
+  std::vector<std::string> missing_textures;
+};
+
+Color mtl_color(const tinyobj::real_t c[3], bool single) {
+  return single ? Color(c[0], c[0], c[0]) : Color(c[0], c[1], c[2]);
+}
+
+// The contract's MTL table: Ka/Kd/Ks/Ns and illum 0..10 onto glint::Material.
+Material map_mtl(const tinyobj::material_t& t, const MtlBlock& b, MtlReport& report) {
+  Material m;  // the contract's defaults for every key the block leaves out
+  m.name = t.name;
+  auto has = [&](const char* key) { return b.keys.count(key) > 0; };
+  auto single = [&](const char* key) { return b.single.count(key) > 0; };
+  if (has("Ka")) m.ambient = mtl_color(t.ambient, single("Ka"));
+  if (has("Kd")) m.diffuse = mtl_color(t.diffuse, single("Kd"));
+  if (has("Ks")) m.specular = mtl_color(t.specular, single("Ks"));
+  if (has("Ns")) {
+    double ns = t.shininess;
+    if (!(ns >= 1)) {
+      if (report.ns_below_one++ == 0) report.ns_line = b.ns_line;
+      ns = 1;
+    }
+    m.shininess = ns;
+  }
+  int illum = has("illum") ? t.illum : 2;
+  if (illum >= 8 && illum <= 10) {
+    if (report.illum_8_to_10++ == 0) report.illum_line = b.illum_line;
+    illum = illum == 8 ? 2 : illum == 9 ? 4 : 1;
+  } else if (illum < 0 || illum > 10) {
+    if (report.illum_unknown++ == 0) report.illum_unknown_line = b.illum_line;
+    illum = 2;
+  }
+  const double dissolve = (has("d") || has("Tr")) ? double(t.dissolve) : 1.0;
+  const Color filter = has("Tf") ? mtl_color(t.transmittance, single("Tf")) : Color(1.0);
+  switch (illum) {
+    case 0: m.unlit = true; break;
+    case 1: m.specular = Color(0.0); break;
+    case 2: break;
+    case 3: m.reflectivity = m.specular; break;
+    case 4:
+      m.reflectivity = m.specular;
+      m.transparency = 1.0 - dissolve;
+      m.ior = 1.0;
+      break;
+    case 5:
+      m.reflectivity = m.specular;
+      m.fresnel = true;
+      break;
+    case 6:
+    case 7: {
+      m.reflectivity = m.specular;
+      // Material::transparency is one number: the mean of (1 - Ks) * Tf.
+      const Color c = (Color(1.0) - m.specular) * filter;
+      m.transparency = (c.x + c.y + c.z) / 3.0;
+      if (has("Ni")) m.ior = t.ior;
+      m.fresnel = illum == 7;
+      break;
+    }
+    default: break;
+  }
+  m.transparency = std::clamp(m.transparency, 0.0, 1.0);
+  return m;
+}
+
+// Reads each mtllib file next to the OBJ, remembers which were missing, and
+// scans each one's text alongside tinyobj::LoadMtl.
+class MtlReader : public tinyobj::MaterialReader {
+ public:
+  explicit MtlReader(fs::path folder) : folder_(std::move(folder)) {}
+
+  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* map, std::string* warn, std::string* err) override {
+    const fs::path path = (folder_ / name).lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+      missing.push_back(name);
+      return false;
+    }
+    std::vector<unsigned char> bytes;
+    try {
+      bytes = read_file(path);
+    } catch (const Error&) {
+      missing.push_back(name);
+      return false;
+    }
+    const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    std::vector<MtlBlock> blocks = scan_mtl(text);
+    const size_t before = materials->size();
+    MemoryStreambuf buffer(text.data(), text.size());
+    std::istream in(&buffer);
+    tinyobj::LoadMtl(map, materials, &in, warn, err);
+    // The scan mirrors LoadMtl's blocks; if it ever disagrees, fall back to
+    // "every key given" for the extra materials rather than misattribute.
+    for (size_t i = before; i < materials->size(); ++i) {
+      const size_t b = i - before;
+      MtlBlock block;
+      if (b < blocks.size() && blocks[b].name == (*materials)[i].name) {
+        block = blocks[b];
+      } else {
+        block.name = (*materials)[i].name;
+        block.keys = {"Ka", "Kd", "Ks", "Ns", "illum"};
+      }
+      origin.push_back({path, std::move(block)});
+    }
+    return true;
+  }
+
+  struct Origin {
+    fs::path mtl;
+    MtlBlock block;
+  };
+  std::vector<Origin> origin;  // per material, as tinyobjloader numbers them
+  std::vector<std::string> missing;
+
+ private:
+  fs::path folder_;
+};
+
+// The 1-based line of the n-th (0-based) statement with this keyword.
+int find_obj_statement(std::string_view text, std::string_view keyword, size_t ordinal) {
+  LineCursor lines(text);
+  std::string_view line;
+  size_t seen = 0;
+  while (lines.next(line)) {
+    const std::string_view t = skip_blanks(line);
+    if (t.size() > keyword.size() && t.substr(0, keyword.size()) == keyword && is_blank(t[keyword.size()])) {
+      if (seen++ == ordinal) return lines.number();
+    }
+  }
+  return 0;
+}
+
+// Literal "nan"/"inf" coordinates on 'v' lines (tinyobjloader reads them as 0).
+std::vector<BadVertexText> scan_obj_nonfinite_text(std::string_view text) {
+  std::vector<BadVertexText> bad;
+  if (!contains_word_ci(text, "nan") && !contains_word_ci(text, "inf")) return bad;
+  LineCursor lines(text);
+  std::string_view line;
+  uint32_t vertex = 0;
+  while (lines.next(line)) {
+    const std::string_view t = skip_blanks(line);
+    if (t.size() < 2 || t[0] != 'v' || !is_blank(t[1])) continue;
+    const size_t offset = static_cast<size_t>(t.data() - line.data()) + 1;
+    for (const Token& tok : tokens_of(t.substr(1), 3)) {
+      std::string_view s = tok.text;
+      if (!s.empty() && (s[0] == '+' || s[0] == '-')) s.remove_prefix(1);
+      const std::string l = lower(s.substr(0, 3));
+      if (l == "nan" || l == "inf")
+        bad.push_back({vertex, lines.number(), static_cast<int>(offset) + tok.column, std::string(tok.text)});
+    }
+    ++vertex;
+  }
+  return bad;
+}
+
+// The first face corner whose vertex or normal index is out of range: line,
+// column and message. Negative indices count back from the current end.
+struct IndexProblem {
+  int line = 0, column = 0;
+  std::string message;
+};
+IndexProblem find_obj_bad_index(std::string_view text, size_t vertex_total, size_t normal_total) {
+  LineCursor lines(text);
+  std::string_view line;
+  int64_t vertices = 0, normals = 0;
+  auto key_is = [](std::string_view t, std::string_view key) {
+    return t.size() > key.size() && t.substr(0, key.size()) == key && is_blank(t[key.size()]);
+  };
+  while (lines.next(line)) {
+    const std::string_view t = skip_blanks(line);
+    if (key_is(t, "v")) ++vertices;
+    else if (key_is(t, "vn")) ++normals;
+    else if (key_is(t, "f")) {
+      const int offset = static_cast<int>(t.data() - line.data()) + 1;
+      for (const Token& tok : tokens_of(t.substr(1))) {
+        const std::string_view s = tok.text;
+        const size_t slash1 = s.find('/');
+        const size_t slash2 = slash1 == std::string_view::npos ? slash1 : s.find('/', slash1 + 1);
+        auto resolve = [](std::string_view part, int64_t count) -> int64_t {
+          const auto i = parse_integer(part);
+          if (!i) return -1;
+          return *i > 0 ? *i - 1 : count + *i;
+        };
+        const int64_t v = resolve(s.substr(0, slash1), vertices);
+        if (v < 0 || v >= static_cast<int64_t>(vertex_total))
+          return {lines.number(), offset + tok.column,
+                  "vertex index " + std::string(s.substr(0, slash1)) + " out of range (" +
+                      plural(vertex_total, "vertex", "vertices") + ")"};
+        if (slash2 != std::string_view::npos && slash2 + 1 < s.size()) {
+          const std::string_view np = s.substr(slash2 + 1);
+          const int64_t n = resolve(np, normals);
+          if (n < 0 || n >= static_cast<int64_t>(normal_total))
+            return {lines.number(), offset + tok.column,
+                    "normal index " + std::string(np) + " out of range (" +
+                        plural(normal_total, "normal", "normals") + ")"};
+        }
+      }
+    }
+  }
+  return {};
+}
+
+// The vertex count of every face with at least 3, in file order (what
+// tinyobjloader keeps, before its 8-bit count wraps above 255).
+std::vector<size_t> scan_obj_face_sizes(std::string_view text) {
+  std::vector<size_t> sizes;
+  LineCursor lines(text);
+  std::string_view line;
+  while (lines.next(line)) {
+    const std::string_view t = skip_blanks(line);
+    if (t.size() < 2 || t[0] != 'f' || !is_blank(t[1])) continue;
+    const size_t n = tokens_of(t.substr(1)).size();
+    if (n >= 3) sizes.push_back(n);
+  }
+  return sizes;
+}
+
+// "... line 12.)" in tinyobjloader's messages.
+int line_in_message(const std::string& message) {
+  const size_t pos = message.rfind("line ");
+  if (pos == std::string::npos) return 0;
+  int line = 0;
+  std::from_chars(message.data() + pos + 5, message.data() + message.size(), line);
+  return line;
+}
+
+size_t count_occurrences(const std::string& text, std::string_view what) {
+  size_t n = 0;
+  for (size_t pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + what.size())) ++n;
+  return n;
+}
+
+// UTF-16 text (with a byte-order mark) to UTF-8, as some exporters write OBJ.
+std::string utf16_to_utf8(std::string_view bytes, bool big_endian) {
+  std::string out;
+  out.reserve(bytes.size() / 2);
+  for (size_t i = 2; i + 1 < bytes.size(); i += 2) {
+    const auto b0 = static_cast<unsigned char>(bytes[i]), b1 = static_cast<unsigned char>(bytes[i + 1]);
+    unsigned c = big_endian ? (b0 << 8 | b1) : (b1 << 8 | b0);
+    if (c >= 0xD800 && c <= 0xDFFF) c = '?';  // no astral planes in mesh files
+    if (c < 0x80) {
+      out += static_cast<char>(c);
+    } else if (c < 0x800) {
+      out += static_cast<char>(0xC0 | (c >> 6));
+      out += static_cast<char>(0x80 | (c & 0x3F));
+    } else {
+      out += static_cast<char>(0xE0 | (c >> 12));
+      out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+      out += static_cast<char>(0x80 | (c & 0x3F));
+    }
+  }
+  return out;
+}
+
+MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes) {
+  std::string converted;
+  std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  if (text.size() >= 2 && (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF")) {
+    converted = utf16_to_utf8(text, text[0] == '\xFE');
+    text = converted;
+  } else if (text.substr(0, 3) == "\xEF\xBB\xBF") {
+    text.remove_prefix(3);
+  }
+  if (text.find('\0') != std::string_view::npos) fail(file, "not a Wavefront OBJ file (binary content)");
+  if (text.find_first_not_of(" \t\r\n\v\f") == std::string_view::npos) fail(file, "empty file");
+
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  MtlReader mtl_reader(path.parent_path());
+  {
+    MemoryStreambuf buffer(text.data(), text.size());
+    std::istream in(&buffer);
+    const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, &mtl_reader,
+                                     /*triangulate=*/false, /*default_vcols_fallback=*/false);
+    if (!ok) {
+      const std::string first = err.substr(0, err.find('\n'));
+      const int line = line_in_message(first);
+      if (first.find("`f'") != std::string::npos)
+        fail(file, "face with a vertex index of 0 or not a number", line);
+      if (first.find("`l'") != std::string::npos || first.find("`p'") != std::string::npos)
+        fail(file, "line or point with a vertex index of 0 or not a number", line);
+      fail(file, "cannot read OBJ: " + (first.empty() ? std::string("unknown error") : first), line);
+    }
+  }
+  // bytes and converted stay alive: error paths below scan the text again.
+
+  RawMesh raw;
+  raw.positions.resize(attrib.vertices.size() / 3);
+  for (size_t v = 0; v < raw.positions.size(); ++v)
+    raw.positions[v] = {attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]};
+  const size_t normal_count = attrib.normals.size() / 3;
+  raw.bad_vertex_text = scan_obj_nonfinite_text(text);
+  raw.nonfinite_vertex_error = [&](uint32_t v) {
+    return Error(SourceLocation{file, find_obj_statement(text, "v", v), 0},
+                 "vertex coordinate is not a finite number (out of float range)");
+  };
+
+  // tinyobjloader keeps a face's vertex count in 8 bits: recover larger ones
+  // from the text when the counts do not add up.
+  size_t stored_corners = 0, face_total = 0;
+  for (const auto& s : shapes) {
+    for (unsigned char n : s.mesh.num_face_vertices) stored_corners += n;
+    face_total += s.mesh.num_face_vertices.size();
+  }
+  size_t index_total = 0;
+  for (const auto& s : shapes) index_total += s.mesh.indices.size();
+  std::vector<size_t> true_sizes;
+  if (stored_corners != index_total) {
+    true_sizes = scan_obj_face_sizes(text);
+    size_t sum = 0;
+    for (size_t n : true_sizes) sum += n;
+    if (true_sizes.size() != face_total || sum != index_total)
+      fail(file, "cannot match polygons with more than 255 vertices to the faces read");
+  }
+
+  {
+    // Polygons of n corners make n - 2 triangles (8-bit counts wrap, so at most an estimate).
+    size_t estimate = 0;
+    for (const auto& s : shapes)
+      for (unsigned char n : s.mesh.num_face_vertices) estimate += n >= 3 ? n - 2 : 0;
+    raw.indices.reserve(3 * estimate);
+    raw.normals.reserve(3 * estimate);
+    raw.triangle_material.reserve(estimate);
+  }
+  size_t face_ordinal = 0;
+  bool bad_index = false;
+  for (const auto& s : shapes) {
+    const auto& m = s.mesh;
+    size_t offset = 0;
+    for (size_t f = 0; f < m.num_face_vertices.size(); ++f, ++face_ordinal) {
+      const size_t n = true_sizes.empty() ? m.num_face_vertices[f] : true_sizes[face_ordinal];
+      if (offset + n > m.indices.size()) fail(file, "inconsistent face data from the OBJ reader");
+      const tinyobj::index_t* corner = &m.indices[offset];
+      offset += n;
+      bool corners_ok = true;
+      for (size_t k = 0; k < n; ++k) {
+        const int vi = corner[k].vertex_index, ni = corner[k].normal_index;
+        if (vi < 0 || static_cast<size_t>(vi) >= raw.positions.size()) corners_ok = false;
+        if (ni < -1 || (ni >= 0 && static_cast<size_t>(ni) >= normal_count)) corners_ok = false;
+      }
+      if (!corners_ok) {
+        bad_index = true;
+        break;
+      }
+      const int32_t material = f < m.material_ids.size() ? m.material_ids[f] : -1;
+      triangulate(
+          n, [&](size_t k) { return raw.positions[corner[k].vertex_index]; },
+          [&](size_t a, size_t b, size_t c) {
+            for (size_t k : {a, b, c}) {
+              raw.indices.push_back(static_cast<uint32_t>(corner[k].vertex_index));
+              const int ni = corner[k].normal_index;
+              raw.normals.push_back(ni >= 0 ? Vec3f{attrib.normals[3 * ni], attrib.normals[3 * ni + 1],
+                                                    attrib.normals[3 * ni + 2]}
+                                            : Vec3f{});
+              if (ni >= 0) raw.has_normals = true;
+            }
+            raw.triangle_material.push_back(material >= 0 && static_cast<size_t>(material) < materials.size()
+                                                ? material
+                                                : -1);
+          });
+    }
+    if (bad_index) break;
+    raw.non_faces += s.lines.num_line_vertices.size() + s.points.indices.size();
+  }
+  if (bad_index) {
+    const IndexProblem p = find_obj_bad_index(text, raw.positions.size(), normal_count);
+    if (p.line > 0) fail(file, p.message, p.line, p.column);
+    fail(file, "face index out of range");
+  }
+  if (!raw.has_normals) raw.normals.clear();
+  raw.small_faces = count_occurrences(warn, "Degenerated face found");
+  if (raw.positions.empty() && raw.indices.empty() && raw.non_faces == 0)
+    fail(file, "no vertices or faces: not a Wavefront OBJ file");
+
+  // Materials, and what went wrong with them: one warning per kind per file.
+  for (const std::string& name : mtl_reader.missing)
+    raw.warnings.push_back(file + ": material library '" + name + "' not found (default materials used)");
+  {
+    std::vector<std::string> unknown;
+    for (size_t pos = warn.find("material [ '"); pos != std::string::npos; pos = warn.find("material [ '", pos + 1)) {
+      const size_t start = pos + 12, end = warn.find("' ]", start);
+      if (end == std::string::npos) break;
+      std::string name = warn.substr(start, end - start);
+      if (std::find(unknown.begin(), unknown.end(), name) == unknown.end()) unknown.push_back(name);
+    }
+    if (!unknown.empty() && mtl_reader.missing.empty())
+      raw.warnings.push_back(file + ": usemtl " + name_list(unknown) +
+                             " not in the material library (default material used)");
+  }
+  std::map<fs::path, MtlReport> reports;
+  std::vector<fs::path> report_order;
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const bool known = i < mtl_reader.origin.size();
+    const fs::path mtl = known ? mtl_reader.origin[i].mtl : fs::path(file);
+    if (!reports.count(mtl)) report_order.push_back(mtl);
+    MtlReport& report = reports[mtl];
+    MtlBlock block;
+    if (known) block = mtl_reader.origin[i].block;
+    raw.materials.push_back(map_mtl(materials[i], block, report));
+    const auto& t = materials[i];
+    for (const std::string* tex :
+         {&t.ambient_texname, &t.diffuse_texname, &t.specular_texname, &t.specular_highlight_texname,
+          &t.bump_texname, &t.displacement_texname, &t.alpha_texname, &t.reflection_texname,
+          &t.roughness_texname, &t.metallic_texname, &t.sheen_texname, &t.emissive_texname,
+          &t.normal_texname}) {
+      if (tex->empty()) continue;
+      std::string relative = *tex;  // Windows exporters write '\\'
+      std::replace(relative.begin(), relative.end(), '\\', '/');
+      std::error_code ec;
+      if (!fs::exists(mtl.parent_path() / relative, ec) &&
+          std::find(report.missing_textures.begin(), report.missing_textures.end(), *tex) ==
+              report.missing_textures.end())
+        report.missing_textures.push_back(*tex);
+    }
+  }
+  for (const fs::path& mtl : report_order) {
+    const MtlReport& r = reports[mtl];
+    const std::string name = mtl.string();
+    if (r.ns_below_one > 0)
+      raw.warnings.push_back(with_line(name, r.ns_line) + ": Ns below 1 read as 1 (" +
+                             plural(r.ns_below_one, "material", "materials") + ")");
+    if (r.illum_8_to_10 > 0)
+      raw.warnings.push_back(with_line(name, r.illum_line) +
+                             ": illum 8, 9, 10 read as 2, 4, 1: no reflection maps, no shadow matte (" +
+                             plural(r.illum_8_to_10, "material", "materials") + ")");
+    if (r.illum_unknown > 0)
+      raw.warnings.push_back(with_line(name, r.illum_unknown_line) + ": illum outside 0..10 read as 2 (" +
+                             plural(r.illum_unknown, "material", "materials") + ")");
+    if (!r.missing_textures.empty())
+      raw.warnings.push_back(name + ": " +
+                             plural(r.missing_textures.size(), "texture file", "texture files") +
+                             " not found (defaults used): " + name_list(r.missing_textures));
+  }
+  return finish(std::move(raw), file);
+}
+
+// ---------------------------------------------------------------------------
+// PLY: header and structure checked here, data read by assimp
+// ---------------------------------------------------------------------------
+
+enum class PlyType { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+std::optional<PlyType> ply_type(std::string_view name) {
+  static const std::pair<std::string_view, PlyType> kTypes[] = {
+      {"char", PlyType::i8},    {"int8", PlyType::i8},     {"uchar", PlyType::u8},   {"uint8", PlyType::u8},
+      {"short", PlyType::i16},  {"int16", PlyType::i16},   {"ushort", PlyType::u16}, {"uint16", PlyType::u16},
+      {"int", PlyType::i32},    {"int32", PlyType::i32},   {"uint", PlyType::u32},   {"uint32", PlyType::u32},
+      {"float", PlyType::f32},  {"float32", PlyType::f32}, {"double", PlyType::f64}, {"float64", PlyType::f64}};
+  for (const auto& [n, t] : kTypes)
+    if (n == name) return t;
+  return std::nullopt;
+}
+size_t ply_size(PlyType t) {
+  switch (t) {
+    case PlyType::i8: case PlyType::u8: return 1;
+    case PlyType::i16: case PlyType::u16: return 2;
+    case PlyType::i32: case PlyType::u32: case PlyType::f32: return 4;
+    case PlyType::f64: return 8;
+  }
+  return 1;
+}
+bool ply_is_float(PlyType t) { return t == PlyType::f32 || t == PlyType::f64; }
+
+struct PlyProperty {
+  std::string name;
+  bool list = false;
+  PlyType type = PlyType::f32;        // scalar, or list items
+  PlyType count_type = PlyType::u8;   // list
+};
+struct PlyElement {
+  std::string name;
+  uint64_t count = 0;
+  int line = 0;
+  std::vector<PlyProperty> properties;
+};
+enum class PlyFormat { ascii, binary_le, binary_be };
+struct PlyHeader {
+  PlyFormat format = PlyFormat::ascii;
+  std::vector<PlyElement> elements;
+  size_t body = 0;       // byte offset of the data
+  int body_line = 0;     // line number of the data's first line
+  size_t unknown_lines = 0;
+  int unknown_line = 0;  // the first
+};
+
+PlyHeader read_ply_header(std::string_view data, const std::string& file) {
+  PlyHeader h;
+  LineCursor lines(data.substr(0, std::min<size_t>(data.size(), size_t(1) << 20)));
+  std::string_view line;
+  if (!lines.next(line) || lower(std::string(tokens_of(line).empty() ? "" : tokens_of(line)[0].text)) != "ply")
+    fail(file, "not a PLY file (it does not start with 'ply')");
+  bool have_format = false;
+  for (;;) {
+    if (!lines.next(line)) fail(file, "PLY header has no end_header line (in its first MiB)");
+    const int n = lines.number();
+    const std::vector<Token> tok = tokens_of(line);
+    if (tok.empty()) continue;
+    const std::string_view key = tok[0].text;
+    if (key == "comment" || key == "obj_info") continue;
+    if (key == "end_header") {
+      // The data starts after this line's terminator.
+      const size_t end = static_cast<size_t>(line.data() - data.data()) + line.size();
+      size_t body = end;
+      if (body < data.size() && data[body] == '\r') ++body;
+      if (body < data.size() && data[body] == '\n') ++body;
+      h.body = body;
+      h.body_line = n + 1;
+      break;
+    }
+    if (key == "format") {
+      if (tok.size() < 2) fail(file, "PLY format line needs a format name", n);
+      if (tok[1].text == "ascii") h.format = PlyFormat::ascii;
+      else if (tok[1].text == "binary_little_endian") h.format = PlyFormat::binary_le;
+      else if (tok[1].text == "binary_big_endian") h.format = PlyFormat::binary_be;
+      else fail(file, "unknown PLY format '" + std::string(tok[1].text) + "'", n, tok[1].column);
+      have_format = true;
+    } else if (key == "element") {
+      if (tok.size() != 3) fail(file, "PLY element line must be 'element <name> <count>'", n);
+      const auto count = parse_integer(tok[2].text);
+      if (!count || *count < 0)
+        fail(file, "bad PLY element count '" + std::string(tok[2].text) + "'", n, tok[2].column);
+      h.elements.push_back({std::string(tok[1].text), static_cast<uint64_t>(*count), n, {}});
+    } else if (key == "property") {
+      if (h.elements.empty()) fail(file, "PLY property before any element", n);
+      PlyProperty p;
+      if (tok.size() >= 2 && tok[1].text == "list") {
+        if (tok.size() != 5) fail(file, "PLY list property must be 'property list <count type> <type> <name>'", n);
+        const auto ct = ply_type(tok[2].text), it = ply_type(tok[3].text);
+        if (!ct || ply_is_float(*ct))
+          fail(file, "bad PLY list count type '" + std::string(tok[2].text) + "'", n, tok[2].column);
+        if (!it) fail(file, "unknown PLY type '" + std::string(tok[3].text) + "'", n, tok[3].column);
+        p.list = true;
+        p.count_type = *ct;
+        p.type = *it;
+        p.name = std::string(tok[4].text);
+      } else {
+        if (tok.size() != 3) fail(file, "PLY property must be 'property <type> <name>'", n);
+        const auto t = ply_type(tok[1].text);
+        if (!t) fail(file, "unknown PLY type '" + std::string(tok[1].text) + "'", n, tok[1].column);
+        p.type = *t;
+        p.name = std::string(tok[2].text);
+      }
+      h.elements.back().properties.push_back(std::move(p));
+    } else {
+      // Some exporters write a comment without the keyword; assimp skips it too.
+      ++h.unknown_lines;
+      if (h.unknown_line == 0) h.unknown_line = n;
+    }
+  }
+  if (!have_format) fail(file, "PLY header has no format line");
+  return h;
+}
+
+// Which element is the vertex list and which list property holds face indices.
+struct PlyLayout {
+  int vertex = -1, face = -1, face_list = -1;
+  int xyz[3] = {-1, -1, -1};  // property numbers in the vertex element
+};
+
+PlyLayout ply_layout(const PlyHeader& h, const std::string& file) {
+  PlyLayout l;
+  for (size_t e = 0; e < h.elements.size(); ++e) {
+    const PlyElement& el = h.elements[e];
+    if (el.name == "vertex" && l.vertex < 0) l.vertex = static_cast<int>(e);
+    if (el.name == "face" && l.face < 0) {
+      l.face = static_cast<int>(e);
+      for (size_t p = 0; p < el.properties.size(); ++p) {
+        const PlyProperty& prop = el.properties[p];
+        const bool indices = prop.name == "vertex_indices" || prop.name == "vertex_index";
+        if (prop.list && indices) l.face_list = static_cast<int>(p);
+      }
+    }
+  }
+  if (l.vertex < 0) fail(file, "PLY file has no vertex element");
+  const PlyElement& v = h.elements[l.vertex];
+  for (size_t p = 0; p < v.properties.size(); ++p)
+    for (int a = 0; a < 3; ++a)
+      if (v.properties[p].name == std::string(1, char('x' + a)) && !v.properties[p].list)
+        l.xyz[a] = static_cast<int>(p);
+  if (l.xyz[0] < 0 || l.xyz[1] < 0 || l.xyz[2] < 0) fail(file, "PLY vertex element has no x, y, z properties", v.line);
+  if (l.face >= 0 && l.face_list < 0)
+    fail(file, "PLY face element has no vertex_indices list", h.elements[l.face].line);
+  return l;
+}
+
+// Absurd counts: every record takes at least some bytes, so a count larger
+// than the data allows is refused before anything is allocated for it.
+void check_ply_counts(const PlyHeader& h, size_t data_bytes, const std::string& file) {
+  for (const PlyElement& el : h.elements) {
+    size_t min_bytes = 0;
+    for (const PlyProperty& p : el.properties) {
+      if (h.format == PlyFormat::ascii) min_bytes += 2;  // a digit and a separator
+      else min_bytes += p.list ? ply_size(p.count_type) : ply_size(p.type);
+    }
+    min_bytes = std::max<size_t>(min_bytes, 1);
+    if (el.count > (data_bytes + 1) / min_bytes)
+      fail(file,
+           "truncated or corrupt: the header claims " + std::to_string(el.count) + " '" + el.name +
+               "' elements but only " + plural(data_bytes, "byte", "bytes") + " of data follow",
+           el.line);
+  }
+}
+
+uint64_t read_binary_uint(const unsigned char* p, size_t size, bool big_endian) {
+  uint64_t v = 0;
+  for (size_t i = 0; i < size; ++i) v |= uint64_t(p[big_endian ? i : size - 1 - i]) << (8 * (size - 1 - i));
+  return v;
+}
+// A binary integer of this type as a signed 64-bit value.
+int64_t read_binary_int(const unsigned char* p, PlyType t, bool big_endian) {
+  const size_t size = ply_size(t);
+  const uint64_t u = read_binary_uint(p, size, big_endian);
+  switch (t) {
+    case PlyType::i8: return static_cast<int8_t>(u);
+    case PlyType::i16: return static_cast<int16_t>(u);
+    case PlyType::i32: return static_cast<int32_t>(u);
+    case PlyType::f32: case PlyType::f64: return 0;
+    default: return static_cast<int64_t>(u);
+  }
+}
+
+std::string ply_face_problem(uint64_t face, int64_t index, uint64_t vertices) {
+  return "face " + std::to_string(face) + ": vertex index " + std::to_string(index) + " out of range (" +
+         plural(vertices, "vertex", "vertices") + ")";
+}
+
+// Walks the binary data record by record: every record present, list counts
+// sane, face indices in range. Nothing is stored.
+void walk_binary_ply(const PlyHeader& h, const PlyLayout& l, std::string_view data, const std::string& file) {
+  const bool be = h.format == PlyFormat::binary_be;
+  const auto* p = reinterpret_cast<const unsigned char*>(data.data()) + h.body;
+  const auto* end = reinterpret_cast<const unsigned char*>(data.data()) + data.size();
+  const uint64_t vertices = h.elements[l.vertex].count;
+  for (size_t e = 0; e < h.elements.size(); ++e) {
+    const PlyElement& el = h.elements[e];
+    auto truncated = [&](uint64_t r) {
+      fail(file, "truncated: the header promises " + std::to_string(el.count) + " '" + el.name +
+                     "' elements but the data ends in number " + std::to_string(r));
+    };
+    size_t fixed = 0;
+    bool has_list = false;
+    for (const PlyProperty& prop : el.properties) {
+      if (prop.list) has_list = true;
+      else fixed += ply_size(prop.type);
+    }
+    if (!has_list) {  // fixed-size records: one check for all
+      const uint64_t fit = fixed > 0 ? static_cast<uint64_t>(end - p) / fixed : el.count;
+      if (fit < el.count) truncated(fit);
+      p += fixed * el.count;
+      continue;
+    }
+    for (uint64_t r = 0; r < el.count; ++r) {
+      for (size_t k = 0; k < el.properties.size(); ++k) {
+        const PlyProperty& prop = el.properties[k];
+        if (!prop.list) {
+          if (static_cast<size_t>(end - p) < ply_size(prop.type)) truncated(r);
+          p += ply_size(prop.type);
+          continue;
+        }
+        const size_t cs = ply_size(prop.count_type), is = ply_size(prop.type);
+        if (static_cast<size_t>(end - p) < cs) truncated(r);
+        const int64_t n = read_binary_int(p, prop.count_type, be);
+        p += cs;
+        if (n < 0) fail(file, el.name + " " + std::to_string(r) + ": negative list length " + std::to_string(n));
+        if (static_cast<uint64_t>(end - p) / is < static_cast<uint64_t>(n)) truncated(r);
+        if (static_cast<int>(e) == l.face && static_cast<int>(k) == l.face_list) {
+          for (int64_t i = 0; i < n; ++i) {
+            const int64_t index = ply_is_float(prop.type) ? -1 : read_binary_int(p + i * is, prop.type, be);
+            if (index < 0 || static_cast<uint64_t>(index) >= vertices) fail(file, ply_face_problem(r, index, vertices));
+          }
+        }
+        p += static_cast<size_t>(n) * is;
+      }
+    }
+  }
+}
+
+// Walks the ASCII data: one record per line (blank lines skipped, as assimp
+// does), every value a number of its type, face indices in range. Records
+// non-finite x/y/z text with its line for the back end.
+void walk_ascii_ply(const PlyHeader& h, const PlyLayout& l, std::string_view data, const std::string& file,
+                    std::vector<BadVertexText>& bad) {
+  LineCursor lines(data.substr(h.body));
+  const int first_line = h.body_line - 1;
+  std::string_view line;
+  const uint64_t vertices = h.elements[l.vertex].count;
+  for (size_t e = 0; e < h.elements.size(); ++e) {
+    const PlyElement& el = h.elements[e];
+    for (uint64_t r = 0; r < el.count; ++r) {
+      std::vector<Token> tok;
+      do {
+        if (!lines.next(line))
+          fail(file, "truncated: the header promises " + std::to_string(el.count) + " '" + el.name +
+                         "' elements but the file ends after " + std::to_string(r));
+        tok = tokens_of(line);
+      } while (tok.empty());
+      const int n = first_line + lines.number();
+      size_t t = 0;
+      auto need = [&](const char* what) -> const Token& {
+        if (t >= tok.size())
+          fail(file, el.name + " " + std::to_string(r) + ": too few values on the line (missing " + what + ")", n);
+        return tok[t++];
+      };
+      for (size_t k = 0; k < el.properties.size(); ++k) {
+        const PlyProperty& prop = el.properties[k];
+        auto check_value = [&](const Token& v, PlyType type) -> int64_t {
+          if (ply_is_float(type)) {
+            const auto x = parse_number(v.text);
+            if (!x) fail(file, "'" + std::string(v.text) + "' is not a number", n, v.column);
+            // A float property beyond float range reads as infinity.
+            const bool finite = type == PlyType::f32 ? std::abs(*x) <= FLT_MAX : std::isfinite(*x);
+            if (!finite && static_cast<int>(e) == l.vertex &&
+                (static_cast<int>(k) == l.xyz[0] || static_cast<int>(k) == l.xyz[1] || static_cast<int>(k) == l.xyz[2]))
+              bad.push_back({static_cast<uint32_t>(r), n, v.column, std::string(v.text)});
+            return 0;
+          }
+          const auto i = parse_integer(v.text);
+          if (!i) fail(file, "'" + std::string(v.text) + "' is not an integer", n, v.column);
+          return *i;
+        };
+        if (!prop.list) {
+          check_value(need(prop.name.c_str()), prop.type);
+          continue;
+        }
+        const Token& count_token = need("a list length");
+        const int64_t count = check_value(count_token, prop.count_type);
+        if (count < 0 || static_cast<uint64_t>(count) > tok.size() - t)
+          fail(file, el.name + " " + std::to_string(r) + ": list length " + std::to_string(count) +
+                         " does not match the values on the line", n, count_token.column);
+        const bool indices = static_cast<int>(e) == l.face && static_cast<int>(k) == l.face_list;
+        for (int64_t i = 0; i < count; ++i) {
+          const Token& v = tok[t++];
+          const int64_t index = check_value(v, prop.type);
+          if (indices && (ply_is_float(prop.type) || index < 0 || static_cast<uint64_t>(index) >= vertices))
+            fail(file, "vertex index " + std::string(v.text) + " out of range (" +
+                           plural(vertices, "vertex", "vertices") + ")", n, v.column);
+        }
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------
+// assimp scenes (PLY, glTF) -> RawMesh
+// ---------------------------------------------------------------------------
+
+constexpr size_t kMaxTriangles = size_t(1) << 28;  // after glTF instancing: ~14 GiB of MeshFile
+
+Material map_assimp_material(const aiMaterial& a) {
+  Material m;
+  aiString name;
+  if (a.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
+  aiColor4D c;
+  if (aiGetMaterialColor(&a, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS) m.diffuse = Color(c.r, c.g, c.b);
+  return m;
+}
+
+// PLY faces with fewer than 3 vertices are skipped with a warning; glTF
+// point and line primitives are simply not surfaces.
+void from_assimp(const aiScene& scene, const std::string& file, const fs::path& folder, bool is_ply,
+                 RawMesh& raw) {
+  const bool use_materials = !is_ply;
+  // Mesh instances with their node transforms (glTF scenes place and reuse meshes).
+  struct Instance {
+    unsigned mesh;
+    aiMatrix4x4 transform;
+  };
+  std::vector<Instance> instances;
+  size_t triangles = 0;
+  if (scene.mRootNode) {
+    std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{{scene.mRootNode, scene.mRootNode->mTransformation}};
+    size_t visits = 0;
+    while (!stack.empty()) {
+      auto [node, m] = stack.back();
+      stack.pop_back();
+      if (++visits > 1'000'000) fail(file, "scene graph too large (more than a million nodes)");
+      for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+        const unsigned mi = node->mMeshes[i];
+        if (mi >= scene.mNumMeshes || !scene.mMeshes[mi]) continue;
+        triangles += scene.mMeshes[mi]->mNumFaces;
+        if (triangles > kMaxTriangles) fail(file, "too many triangles after instancing");
+        instances.push_back({mi, m});
+      }
+      for (unsigned i = 0; i < node->mNumChildren; ++i)
+        if (node->mChildren[i]) stack.push_back({node->mChildren[i], m * node->mChildren[i]->mTransformation});
+    }
+  }
+  if (instances.empty())
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i)
+      if (scene.mMeshes[i]) {
+        instances.push_back({i, aiMatrix4x4()});
+        triangles += scene.mMeshes[i]->mNumFaces;
+      }
+  raw.indices.reserve(3 * triangles);  // exact for triangle meshes
+  raw.normals.reserve(3 * triangles);
+  raw.triangle_material.reserve(triangles);
+
+  if (use_materials) {
+    for (unsigned i = 0; i < scene.mNumMaterials; ++i) {
+      const aiMaterial* a = scene.mMaterials[i];
+      raw.materials.push_back(a ? map_assimp_material(*a) : Material{});
+      if (!a) continue;
+      std::vector<std::string> missing;
+      for (aiTextureType type : {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR, aiTextureType_SPECULAR,
+                                 aiTextureType_NORMALS, aiTextureType_EMISSIVE}) {
+        for (unsigned k = 0; k < a->GetTextureCount(type); ++k) {
+          aiString tex;
+          if (a->GetTexture(type, k, &tex) != AI_SUCCESS) continue;
+          const std::string t = tex.C_Str();
+          if (t.empty() || t[0] == '*' || t.rfind("data:", 0) == 0) continue;  // embedded
+          std::error_code ec;
+          if (!fs::exists(folder / t, ec) && std::find(missing.begin(), missing.end(), t) == missing.end())
+            missing.push_back(t);
+        }
+      }
+      if (!missing.empty())
+        raw.warnings.push_back(file + ": " + plural(missing.size(), "texture file", "texture files") +
+                               " not found (defaults used): " + name_list(missing));
+    }
+  }
+
+  struct Range {
+    size_t first;
+    unsigned mesh;
+  };
+  std::vector<Range> ranges;
+  for (const Instance& inst : instances) {
+    const aiMesh& mesh = *scene.mMeshes[inst.mesh];
+    const size_t base = raw.positions.size();
+    if (base + mesh.mNumVertices > UINT32_MAX) fail(file, "too many vertices (more than 2^32)");
+    if (!mesh.mVertices && mesh.mNumVertices > 0) continue;
+    ranges.push_back({base, inst.mesh});
+    const bool identity = inst.transform.IsIdentity();
+    aiMatrix3x3 normal_matrix(inst.transform);
+    normal_matrix.Inverse().Transpose();
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      aiVector3D p = mesh.mVertices[v];
+      if (!identity) p = inst.transform * p;
+      raw.positions.push_back({p.x, p.y, p.z});
+    }
+    const bool normals = mesh.mNormals != nullptr;
+    const int32_t material =
+        use_materials && mesh.mMaterialIndex < raw.materials.size() ? static_cast<int32_t>(mesh.mMaterialIndex) : -1;
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices < 3) {
+        ++(is_ply ? raw.small_faces : raw.non_faces);
+        continue;
+      }
+      for (unsigned k = 0; k < face.mNumIndices; ++k)
+        if (face.mIndices[k] >= mesh.mNumVertices)
+          fail(file, "mesh " + std::to_string(inst.mesh) + ", face " + std::to_string(f) + ": vertex index " +
+                         std::to_string(face.mIndices[k]) + " out of range (" +
+                         plural(mesh.mNumVertices, "vertex", "vertices") + ")");
+      triangulate(
+          face.mNumIndices, [&](size_t k) { return raw.positions[base + face.mIndices[k]]; },
+          [&](size_t a, size_t b, size_t c) {
+            for (size_t k : {a, b, c}) {
+              const unsigned v = face.mIndices[k];
+              raw.indices.push_back(static_cast<uint32_t>(base + v));
+              if (normals) {
+                aiVector3D n = mesh.mNormals[v];
+                if (!identity) n = normal_matrix * n;
+                raw.normals.push_back({n.x, n.y, n.z});
+              } else {
+                raw.normals.push_back({});
+              }
+            }
+            raw.triangle_material.push_back(material);
+          });
+      if (normals) raw.has_normals = true;
+    }
+  }
+  if (!raw.has_normals) raw.normals.clear();
+  raw.nonfinite_vertex_error = [file, ranges, &scene](uint32_t v) {
+    auto it = std::upper_bound(ranges.begin(), ranges.end(), size_t(v),
+                               [](size_t x, const Range& r) { return x < r.first; });
+    std::string where = "vertex " + std::to_string(v);
+    if (it != ranges.begin()) {
+      --it;
+      const aiMesh* mesh = scene.mMeshes[it->mesh];
+      where = "vertex " + std::to_string(v - it->first);
+      if (scene.mNumMeshes > 1)
+        where = "mesh " + std::to_string(it->mesh) + " ('" + std::string(mesh->mName.C_Str()) + "'), " + where;
+    }
+    return Error(SourceLocation{file, 0, 0}, where + " has a non-finite coordinate");
+  };
+}
+
+// assimp reports some repairs only in its log (e.g. glTF faces with
+// out-of-range indices are dropped): capture its warnings while it reads.
+// Its logger is global, so assimp reads are serialized.
+class AssimpLogCapture {
+ public:
+  AssimpLogCapture() : lock_(mutex()) {
+    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(new Stream(messages), Assimp::Logger::Warn | Assimp::Logger::Err);
+  }
+  ~AssimpLogCapture() { Assimp::DefaultLogger::kill(); }
+  AssimpLogCapture(const AssimpLogCapture&) = delete;
+  AssimpLogCapture& operator=(const AssimpLogCapture&) = delete;
+
+  bool contains(std::string_view text) const {
+    for (const std::string& m : messages)
+      if (m.find(text) != std::string::npos) return true;
+    return false;
+  }
+  std::vector<std::string> messages;
+
+ private:
+  struct Stream : Assimp::LogStream {
+    explicit Stream(std::vector<std::string>& out) : out_(out) {}
+    void write(const char* message) override {
+      std::string m = message ? message : "";
+      while (!m.empty() && (m.back() == '\n' || m.back() == ' ')) m.pop_back();
+      out_.push_back(std::move(m));
+    }
+    std::vector<std::string>& out_;
+  };
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
+};
+
+std::string assimp_error(const Assimp::Importer& importer) {
+  std::string e = importer.GetErrorString();
+  while (!e.empty() && (e.back() == '\n' || e.back() == ' ')) e.pop_back();
+  return e.empty() ? "unknown error" : e;
+}
+
+MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes) {
+  const std::string_view data(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  const PlyHeader header = read_ply_header(data, file);
+  const PlyLayout layout = ply_layout(header, file);
+  check_ply_counts(header, data.size() - header.body, file);
+  RawMesh raw;
+  if (header.unknown_lines > 0)
+    raw.warnings.push_back(file + ":" + std::to_string(header.unknown_line) + ": ignored " +
+                           plural(header.unknown_lines, "unknown PLY header line", "unknown PLY header lines"));
+  if (header.format == PlyFormat::ascii) walk_ascii_ply(header, layout, data, file, raw.bad_vertex_text);
+  else walk_binary_ply(header, layout, data, file);
+  if (layout.face < 0 || header.elements[layout.face].count == 0)
+    fail(file, "no triangles (vertices only)");
+
+  AssimpLogCapture log;
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, "ply");
+  if (!scene) fail(file, "cannot read PLY: " + assimp_error(importer));
+  from_assimp(*scene, file, {}, /*is_ply=*/true, raw);
+  // assimp keeps the file's vertex order, so PLY vertex numbers are the file's.
+  if (raw.positions.size() != header.elements[layout.vertex].count)
+    raw.bad_vertex_text.clear();  // numbering differs: report by position instead
+  if (header.format != PlyFormat::ascii) {
+    raw.nonfinite_vertex_error = [file](uint32_t v) {
+      return Error(SourceLocation{file, 0, 0}, "vertex " + std::to_string(v) + " has a non-finite coordinate");
+    };
+  }
+  return finish(std::move(raw), file);
+}
+
+MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes,
+                   bool binary) {
+  // Only glTF content goes to assimp: it would otherwise guess another format.
+  if (binary) {
+    if (bytes.size() < 12 || std::memcmp(bytes.data(), "glTF", 4) != 0)
+      fail(file, "not a binary glTF file (no 'glTF' magic)");
+    const uint64_t declared = read_binary_uint(bytes.data() + 8, 4, false);
+    if (declared > bytes.size())
+      fail(file, "truncated: the header declares " + std::to_string(declared) + " bytes, the file has " +
+                     std::to_string(bytes.size()));
+  } else {
+    size_t i = 0;
+    if (bytes.size() >= 3 && std::memcmp(bytes.data(), "\xEF\xBB\xBF", 3) == 0) i = 3;
+    while (i < bytes.size() && std::isspace(bytes[i])) ++i;
+    if (i >= bytes.size() || bytes[i] != '{') fail(file, "not a glTF file (no JSON object)");
+  }
+  AssimpLogCapture log;
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path.string(), 0);
+  if (!scene) fail(file, "cannot read glTF: " + assimp_error(importer));
+  if (log.contains("out-of-range indices")) fail(file, "face with a vertex index out of range");
+  RawMesh raw;
+  from_assimp(*scene, file, path.parent_path(), /*is_ply=*/false, raw);
+  // assimp adds a default material for primitives without one: not the file's.
+  for (int32_t& m : raw.triangle_material)
+    if (m >= 0 && raw.materials[m].name == AI_DEFAULT_MATERIAL_NAME) m = -1;
+  for (Material& m : raw.materials)
+    if (m.name == AI_DEFAULT_MATERIAL_NAME) m.name.clear();  // dropped when unused
+  return finish(std::move(raw), file);
+}
+
+}  // namespace
+
+MeshFile load_mesh_file(const fs::path& path) {
+  const std::string file = path.string();
+  try {
+    std::error_code ec;
+    const auto status = fs::status(path, ec);
+    if (!fs::exists(status)) fail(file, "mesh file not found");
+    if (fs::is_directory(status)) fail(file, "is a directory, not a mesh file");
+    const std::string ext = lower(path.extension().string());
+    if (ext != ".obj" && ext != ".ply" && ext != ".gltf" && ext != ".glb")
+      fail(file, "unsupported mesh format '" + path.extension().string() + "' (supported: .obj, .ply, .gltf, .glb)");
+    std::vector<unsigned char> bytes = read_file(path);
+    if (bytes.empty()) fail(file, "empty file");
+    if (ext == ".obj") return load_obj(path, file, std::move(bytes));
+    if (ext == ".ply") return load_ply(file, std::move(bytes));
+    return load_gltf(path, file, bytes, ext == ".glb");
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    fail(file, "out of memory reading the mesh");
+  } catch (const std::exception& e) {
+    fail(file, std::string("cannot read mesh: ") + e.what());
+  } catch (...) {
+    fail(file, "cannot read mesh: unknown error");
+  }
+}
+
+}  // namespace glint

@@ -1,0 +1,33 @@
+// Mesh files (.obj with its .mtl, .ply; more where the loader allows) read into
+// plain arrays in the file's own space, with the contract's rules applied:
+// polygons triangulated, degenerate triangles dropped (one warning with a
+// count), vertex normals from the file or else angle-weighted averages per
+// vertex index, MTL materials mapped by illum. The scene loader turns a
+// MeshFile into a Scene mesh.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "glint/scene/scene.h"
+
+namespace glint {
+
+struct MeshFile {
+  std::vector<Vec3f> positions;
+  std::vector<uint32_t> indices;          // 3 per triangle, into positions
+  std::vector<Vec3f> corner_normals;      // 3 per triangle, unit: from the file, or computed
+  std::vector<int32_t> triangle_material; // per triangle: index into `materials`, or -1 for none
+  std::vector<Material> materials;        // from the .mtl (contract defaults for keys it leaves out)
+  std::vector<std::string> warnings;      // one line each, e.g. "mesh.obj: dropped 3 degenerate triangles"
+
+  size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// Throws glint::Error naming the mesh file (and line:col where it has one)
+// for a missing, unreadable or broken file, or one with no triangles.
+MeshFile load_mesh_file(const std::filesystem::path& path);
+
+}  // namespace glint

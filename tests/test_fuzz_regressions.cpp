@@ -1,0 +1,156 @@
+// Every input the fuzzers (fuzz/) ever crashed on, kept in fuzz/regressions/,
+// and the seed corpus in fuzz/corpus/: the JSON reader and the scene loader
+// must accept each one or throw glint::Error, and nothing else. A sanitizer
+// build (scripts/test.sh's build-asan) runs this too, so a memory error or UB
+// on any of these files fails the suite. Below those: one focused test per bug
+// the fuzzers found, pinning the fixed behaviour.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <typeinfo>
+#include <vector>
+
+#include "glint/error.h"
+#include "glint/io/json.h"
+#include "glint/io/mesh_file.h"
+#include "glint/io/scene_loader.h"
+
+namespace glint {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kFuzzDir = fs::path(GLINT_SOURCE_DIR) / "fuzz";
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Regular files under `dir` (recursively), sorted for stable output.
+std::vector<fs::path> files_under(const fs::path& dir) {
+  std::vector<fs::path> files;
+  if (!fs::is_directory(dir)) return files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file() && entry.path().filename() != "README.md") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// What escaped from `f`: "" for nothing or a glint::Error, else a description.
+template <class F>
+std::string only_glint_errors(F&& f) {
+  try {
+    f();
+  } catch (const Error&) {
+    return "";
+  } catch (const std::exception& e) {
+    return std::string("non-glint exception ") + typeid(e).name() + ": " + e.what();
+  } catch (...) {
+    return "non-std exception";
+  }
+  return "";
+}
+
+// Runs the fuzz targets' entry points on one input, as the fuzzers do:
+// json::parse and parse_scene throw nothing but glint::Error, and
+// validate_scene throws nothing and finds no error exactly when parse_scene
+// (reading relative paths from the same folder) loads the scene.
+// Mesh files (.obj, .ply) also go through the mesh reader, as fuzz_mesh_* do.
+void expect_only_glint_errors(const fs::path& file) {
+  if (file.extension() == ".obj" || file.extension() == ".ply") {
+    EXPECT_EQ(only_glint_errors([&] { load_mesh_file(file); }), "") << "load_mesh_file on " << file;
+  }
+  const std::string text = read_bytes(file);
+  const std::string name = file.filename().string();
+  EXPECT_EQ(only_glint_errors([&] { json::parse(text, name); }), "") << "json::parse on " << file;
+  EXPECT_EQ(only_glint_errors([&] { parse_scene(text, name, {}); }), "") << "parse_scene on " << file;
+  bool loaded = false;
+  EXPECT_EQ(only_glint_errors([&] {
+              parse_scene(text, name, file.parent_path());
+              loaded = true;
+            }),
+            "")
+      << "parse_scene on " << file;
+  std::vector<Error> errors;
+  try {
+    errors = validate_scene(file);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "validate_scene threw on " << file << ": " << e.what();
+    return;
+  }
+  EXPECT_EQ(errors.empty(), loaded) << "validate_scene and parse_scene disagree on " << file
+                                    << (errors.empty() ? std::string() : ": " + std::string(errors.front().what()));
+}
+
+TEST(FuzzRegressions, EveryCrashInputGivesOnlyGlintErrors) {
+  const auto files = files_under(kFuzzDir / "regressions");
+  ASSERT_FALSE(files.empty()) << "no regression inputs in " << kFuzzDir / "regressions";
+  for (const auto& file : files) {
+    SCOPED_TRACE(file.string());
+    expect_only_glint_errors(file);
+  }
+}
+
+TEST(FuzzRegressions, SeedCorpusGivesOnlyGlintErrors) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto files = files_under(kFuzzDir / "corpus");
+  ASSERT_GE(files.size(), 20u) << "seed corpus missing under " << kFuzzDir / "corpus";
+  for (const auto& file : files) {
+    SCOPED_TRACE(file.string());
+    expect_only_glint_errors(file);
+  }
+  // The corpus is small seeds; this must stay a quick test (even under ASan).
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));
+}
+
+// The repository's own scenes are in the corpus and must load.
+TEST(FuzzRegressions, SceneSeedsFromScenesFolderLoad) {
+  for (const auto& file : files_under(fs::path(GLINT_SOURCE_DIR) / "scenes")) {
+    if (file.extension() != ".json") continue;
+    SCOPED_TRACE(file.string());
+    EXPECT_NO_THROW(load_scene(file));
+  }
+}
+
+// --- one test per fixed finding ---------------------------------------------
+
+Error json_error(const std::string& text) {
+  try {
+    json::parse(text, "t.json");
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no error for: " << text;
+  return Error("no error");
+}
+
+// nlohmann's lexer skips a byte-order mark itself, so a second BOM after the
+// one json::parse skips used to be skipped silently too, leaving every token
+// position 3 bytes off and the error pointing at the BOM's last byte (1:3,
+// "unexpected byte 0xBF"). Only one leading BOM is allowed; a second one is
+// an error at its first byte.
+TEST(FuzzRegressions, SecondByteOrderMarkIsAnErrorAtItsStart) {
+  for (const char* text : {"\xEF\xBB\xBF\xEF\xBB\xBF{}", "\xEF\xBB\xBF\xEF\xBB\xBF[\"\",\"\",\"\"]",
+                           "\xEF\xBB\xBF\xEF\xBB\xBF 5"}) {
+    const Error e = json_error(text);
+    EXPECT_EQ(e.location().line, 1) << e.what();
+    EXPECT_EQ(e.location().column, 1) << e.what();
+    EXPECT_EQ(e.message(), "syntax error: unexpected byte-order mark (only one may start the file)");
+  }
+  // Without a first BOM, a BOM is still skipped once (the first is allowed).
+  EXPECT_NO_THROW(json::parse("\xEF\xBB\xBF{}", "t.json"));
+  // A BOM anywhere else is an unexpected byte where it is.
+  const Error e = json_error("{} \xEF\xBB\xBF");
+  EXPECT_EQ(e.location().column, 4) << e.what();
+}
+
+}  // namespace
+}  // namespace glint

@@ -1,0 +1,701 @@
+// load_mesh_file against the contract (shared/spec/scene-format.md, "objects":
+// mesh, "Mesh normals", the MTL table) and issue 3's "Bad input": OBJ with MTL
+// (every illum), polygons triangulated, file vs angle-weighted normals,
+// degenerate triangles, PLY ASCII and binary, glTF, and every error class
+// with its message and location. Fixtures live in tests/meshes/; broken files
+// are written per test into a temporary folder.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "glint/error.h"
+#include "glint/io/mesh_file.h"
+
+#if defined(__SANITIZE_ADDRESS__)
+#define GLINT_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define GLINT_TEST_ASAN 1
+#endif
+#endif
+#ifdef GLINT_TEST_ASAN
+#include <sanitizer/lsan_interface.h>
+#endif
+
+namespace glint {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fixture(const std::string& name) { return fs::path(GLINT_SOURCE_DIR) / "tests" / "meshes" / name; }
+
+// A fresh folder per test for files written on the fly.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("glint-mesh-" + std::to_string(::getpid()) + "-" + info->test_suite_name() + "-" + info->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  fs::path write(const std::string& name, const std::string& bytes) const {
+    const fs::path p = path_ / name;
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p;
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// The load must fail with a glint::Error whose message holds `part`, at this line:column.
+void expect_error(const fs::path& path, const std::string& part, int line = 0, int column = 0) {
+  try {
+    load_mesh_file(path);
+    ADD_FAILURE() << path << ": loaded, expected an error with '" << part << "'";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find(part), std::string::npos) << "message: " << e.what();
+    EXPECT_EQ(e.location().file, path.string()) << e.what();
+    EXPECT_EQ(e.location().line, line) << e.what();
+    EXPECT_EQ(e.location().column, column) << e.what();
+  }
+}
+
+void expect_vec(const Vec3f& got, double x, double y, double z, double tol = 1e-6) {
+  EXPECT_NEAR(got.x, x, tol);
+  EXPECT_NEAR(got.y, y, tol);
+  EXPECT_NEAR(got.z, z, tol);
+}
+
+void expect_color(const Color& got, double r, double g, double b, const std::string& what) {
+  EXPECT_NEAR(got.x, r, 1e-6) << what;
+  EXPECT_NEAR(got.y, g, 1e-6) << what;
+  EXPECT_NEAR(got.z, b, 1e-6) << what;
+}
+
+size_t count_containing(const std::vector<std::string>& lines, const std::string& part) {
+  size_t n = 0;
+  for (const auto& l : lines) n += l.find(part) != std::string::npos;
+  return n;
+}
+
+const Material& material_named(const MeshFile& m, const std::string& name) {
+  for (const Material& mat : m.materials)
+    if (mat.name == name) return mat;
+  throw std::runtime_error("no material " + name);
+}
+
+Vec3f corner_position(const MeshFile& m, size_t triangle, int corner) {
+  return m.positions[m.indices[3 * triangle + corner]];
+}
+
+// --- OBJ and MTL -------------------------------------------------------------
+
+TEST(MeshFileObj, UsemtlGivesEachFaceItsMaterial) {
+  const MeshFile m = load_mesh_file(fixture("materials.obj"));
+  ASSERT_EQ(m.triangle_count(), 14u);
+  ASSERT_EQ(m.materials.size(), 13u);
+  EXPECT_EQ(m.triangle_material[0], -1);  // before any usemtl
+  const char* names[] = {"illum0", "illum1", "illum2", "illum3", "illum4", "illum5",  "illum6",
+                         "illum7", "illum8", "illum9", "illum10", "defaults", "gray"};
+  for (size_t t = 1; t < 14; ++t) {
+    ASSERT_GE(m.triangle_material[t], 0);
+    EXPECT_EQ(m.materials[m.triangle_material[t]].name, names[t - 1]) << "triangle " << t;
+  }
+}
+
+TEST(MeshFileObj, IllumModelsMapByTheContractTable) {
+  const MeshFile m = load_mesh_file(fixture("materials.obj"));
+  const Material& i0 = material_named(m, "illum0");
+  EXPECT_TRUE(i0.unlit);
+  expect_color(i0.diffuse, 0.1, 0.2, 0.3, "illum 0: the color is Kd");
+
+  const Material& i1 = material_named(m, "illum1");
+  expect_color(i1.ambient, 0.05, 0.05, 0.05, "illum 1 Ka");
+  expect_color(i1.diffuse, 0.5, 0.5, 0.5, "illum 1 Kd");
+  expect_color(i1.specular, 0, 0, 0, "illum 1: specular 0");
+  EXPECT_FALSE(i1.unlit);
+
+  const Material& i2 = material_named(m, "illum2");
+  expect_color(i2.ambient, 0.1, 0.1, 0.1, "illum 2 Ka");
+  expect_color(i2.diffuse, 0.6, 0.5, 0.4, "illum 2 Kd");
+  expect_color(i2.specular, 0.3, 0.3, 0.3, "illum 2 Ks");
+  EXPECT_DOUBLE_EQ(i2.shininess, 50);
+  expect_color(i2.reflectivity, 0, 0, 0, "illum 2: no mirror");
+
+  const Material& i3 = material_named(m, "illum3");
+  expect_color(i3.reflectivity, 0.4, 0.5, 0.6, "illum 3: reflectivity = Ks");
+  EXPECT_EQ(i3.transparency, 0);
+  EXPECT_FALSE(i3.fresnel);
+
+  const Material& i4 = material_named(m, "illum4");
+  expect_color(i4.reflectivity, 0.2, 0.2, 0.2, "illum 4 reflectivity");
+  EXPECT_NEAR(i4.transparency, 0.75, 1e-6);  // 1 - d
+  EXPECT_DOUBLE_EQ(i4.ior, 1.0);             // Ni ignored: glass without bending
+  EXPECT_FALSE(i4.fresnel);
+
+  const Material& i5 = material_named(m, "illum5");
+  expect_color(i5.reflectivity, 0.3, 0.3, 0.3, "illum 5 reflectivity");
+  EXPECT_TRUE(i5.fresnel);
+  EXPECT_EQ(i5.transparency, 0);
+
+  // illum 6: transparency = mean over channels of (1 - Ks) * Tf, ior = Ni.
+  const Material& i6 = material_named(m, "illum6");
+  expect_color(i6.reflectivity, 0.2, 0.4, 0.6, "illum 6 reflectivity");
+  EXPECT_NEAR(i6.transparency, (0.8 * 1 + 0.6 * 0.5 + 0.4 * 0) / 3, 1e-6);
+  EXPECT_NEAR(i6.ior, 1.33, 1e-6);
+  EXPECT_FALSE(i6.fresnel);
+
+  // illum 7: as 6 with fresnel; Tf left out filters nothing.
+  const Material& i7 = material_named(m, "illum7");
+  EXPECT_NEAR(i7.transparency, 0.9, 1e-6);
+  EXPECT_NEAR(i7.ior, 2.0, 1e-6);
+  EXPECT_TRUE(i7.fresnel);
+
+  // 8, 9, 10 read as 2, 4, 1.
+  const Material& i8 = material_named(m, "illum8");
+  expect_color(i8.specular, 0.5, 0.5, 0.5, "illum 8 as 2");
+  expect_color(i8.reflectivity, 0, 0, 0, "illum 8 as 2");
+  const Material& i9 = material_named(m, "illum9");
+  expect_color(i9.reflectivity, 0.5, 0.5, 0.5, "illum 9 as 4");
+  EXPECT_NEAR(i9.transparency, 0.6, 1e-6);
+  EXPECT_DOUBLE_EQ(i9.ior, 1.0);
+  const Material& i10 = material_named(m, "illum10");
+  expect_color(i10.specular, 0, 0, 0, "illum 10 as 1");
+  expect_color(i10.reflectivity, 0, 0, 0, "illum 10 as 1");
+}
+
+TEST(MeshFileObj, KeysTheMtlLeavesOutTakeTheContractDefaults) {
+  const MeshFile m = load_mesh_file(fixture("materials.obj"));
+  const Material& d = material_named(m, "defaults");
+  const Material contract;  // glint::Material's defaults are the contract's
+  expect_color(d.ambient, contract.ambient.x, contract.ambient.y, contract.ambient.z, "ambient");
+  expect_color(d.diffuse, 0.8, 0.8, 0.8, "diffuse");
+  expect_color(d.specular, 0, 0, 0, "specular");
+  EXPECT_DOUBLE_EQ(d.shininess, 32);
+  expect_color(d.reflectivity, 0, 0, 0, "reflectivity");
+  EXPECT_EQ(d.transparency, 0);
+  EXPECT_DOUBLE_EQ(d.ior, 1.5);
+  EXPECT_FALSE(d.fresnel);
+  EXPECT_FALSE(d.unlit);  // illum left out is 2
+}
+
+TEST(MeshFileObj, OneValueColorIsGrayAndNsZeroIsOneWithOneWarning) {
+  const MeshFile m = load_mesh_file(fixture("materials.obj"));
+  const Material& g = material_named(m, "gray");
+  expect_color(g.diffuse, 0.25, 0.25, 0.25, "Kd 0.25 means gray");
+  EXPECT_DOUBLE_EQ(g.shininess, 1);
+  const std::string mtl = (fixture("materials.mtl")).string();
+  EXPECT_EQ(count_containing(m.warnings, "Ns below 1 read as 1"), 1u);
+  EXPECT_EQ(count_containing(m.warnings, mtl + ":63: Ns below 1 read as 1 (1 material)"), 1u);
+}
+
+TEST(MeshFileObj, Illum8To10WarnOncePerFileWithACount) {
+  const MeshFile m = load_mesh_file(fixture("materials.obj"));
+  EXPECT_EQ(count_containing(m.warnings, "illum 8, 9, 10 read as 2, 4, 1"), 1u);
+  EXPECT_EQ(count_containing(m.warnings, "(3 materials)"), 1u);
+}
+
+TEST(MeshFileObj, MissingTextureIsAWarning) {
+  const MeshFile m = load_mesh_file(fixture("materials.obj"));
+  EXPECT_EQ(count_containing(m.warnings, "1 texture file not found (defaults used): 'missing_texture.png'"), 1u);
+  EXPECT_EQ(m.warnings.size(), 3u);  // Ns, illum 8-10, texture: nothing else
+}
+
+TEST(MeshFileObj, MissingMtlIsAWarningAndDefaultsAreUsed) {
+  const MeshFile m = load_mesh_file(fixture("missing_mtl.obj"));
+  ASSERT_EQ(m.triangle_count(), 1u);
+  EXPECT_EQ(m.triangle_material[0], -1);
+  EXPECT_TRUE(m.materials.empty());
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_EQ(m.warnings[0], fixture("missing_mtl.obj").string() +
+                               ": material library 'nowhere.mtl' not found (default materials used)");
+}
+
+TEST(MeshFileObj, UsemtlOfAnUnknownNameIsAWarning) {
+  TempDir dir;
+  dir.write("m.mtl", "newmtl red\nKd 1 0 0\n");
+  const fs::path obj = dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl blue\nf 1 2 3\n");
+  const MeshFile m = load_mesh_file(obj);
+  EXPECT_EQ(m.triangle_material[0], -1);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_NE(m.warnings[0].find("usemtl 'blue' not in the material library"), std::string::npos);
+}
+
+TEST(MeshFileObj, QuadsSplitOnTheShorterDiagonalAndPolygonsFan) {
+  const MeshFile m = load_mesh_file(fixture("quads.obj"));
+  ASSERT_EQ(m.triangle_count(), 5u);
+  // The kite: diagonal 1-3 (length 2) rather than 2-4 (length 6).
+  const uint32_t want[5][3] = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}, {4, 7, 8}};
+  for (size_t t = 0; t < 5; ++t)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(m.indices[3 * t + k], want[t][k]) << "triangle " << t;
+  expect_vec(m.positions[1], 1, -3, 0);
+  for (const Vec3f& n : m.corner_normals) expect_vec(n, 0, 0, 1);
+}
+
+TEST(MeshFileObj, PolygonsOfMoreThan255Vertices) {
+  // tinyobjloader counts a face's vertices in 8 bits; the loader recovers.
+  TempDir dir;
+  std::string text;
+  const int n = 300;
+  for (int i = 0; i < n; ++i) {  // piece by piece: `"v " + std::string` trips GCC 12's bogus -Wrestrict
+    text += "v ";
+    text += std::to_string(std::cos(2 * M_PI * i / n));
+    text += ' ';
+    text += std::to_string(std::sin(2 * M_PI * i / n));
+    text += " 0\n";
+  }
+  text += "v 5 5 0\nv 6 5 0\nv 5 6 0\nf";
+  for (int i = 1; i <= n; ++i) {
+    text += ' ';
+    text += std::to_string(i);
+  }
+  text += "\nf 301 302 303\n";
+  const MeshFile m = load_mesh_file(dir.write("big.obj", text));
+  EXPECT_EQ(m.triangle_count(), size_t(n - 2 + 1));
+  expect_vec(corner_position(m, n - 2, 0), 5, 5, 0);
+}
+
+TEST(MeshFileObj, NegativeIndicesCountBack) {
+  TempDir dir;
+  const MeshFile m = load_mesh_file(dir.write("rel.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n"));
+  ASSERT_EQ(m.triangle_count(), 1u);
+  expect_vec(corner_position(m, 0, 2), 0, 1, 0);
+}
+
+TEST(MeshFileObj, PositionsAreTheFilesAsFloat) {
+  TempDir dir;
+  const MeshFile m = load_mesh_file(dir.write("p.obj", "v 0.1 -2.5 1e3\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  expect_vec(m.positions[0], 0.1f, -2.5f, 1000.0f, 0);
+}
+
+TEST(MeshFileObj, ByteOrderMarksAndUtf16) {
+  TempDir dir;
+  const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  EXPECT_EQ(load_mesh_file(dir.write("bom.obj", "\xEF\xBB\xBF" + text)).triangle_count(), 1u);
+  std::string utf16 = "\xFF\xFE";
+  for (char c : text) utf16 += std::string{c, '\0'};
+  EXPECT_EQ(load_mesh_file(dir.write("utf16.obj", utf16)).triangle_count(), 1u);
+}
+
+// --- normals -----------------------------------------------------------------
+
+TEST(MeshFileNormals, FromTheFileNormalizedWithZeroLengthFallingBack) {
+  const MeshFile m = load_mesh_file(fixture("normals.obj"));
+  ASSERT_EQ(m.triangle_count(), 2u);
+  expect_vec(m.corner_normals[0], 0, 0.6, 0.8);  // tilted, as the file says
+  expect_vec(m.corner_normals[1], 0, 0, 1);      // "vn 0 0 2" normalized
+  expect_vec(m.corner_normals[2], 0, 0, 1);      // "vn 0 0 0": computed
+  for (int k = 3; k < 6; ++k) expect_vec(m.corner_normals[k], 0, 0, 1);  // face without normals
+}
+
+TEST(MeshFileNormals, CubeCornersAreAngleWeighted) {
+  const MeshFile m = load_mesh_file(fixture("cube.obj"));
+  ASSERT_EQ(m.triangle_count(), 12u);
+  const double s = 1 / std::sqrt(3.0);
+  for (size_t c = 0; c < m.indices.size(); ++c) {
+    const Vec3f p = m.positions[m.indices[c]];
+    // Outward along the diagonal through the corner, whatever the triangulation.
+    expect_vec(m.corner_normals[c], (p.x - 0.5) * 2 * s, (p.y - 0.5) * 2 * s, (p.z - 0.5) * 2 * s);
+  }
+}
+
+TEST(MeshFileNormals, AngleWeightsNotAreaWeights) {
+  const MeshFile m = load_mesh_file(fixture("fan.obj"));
+  ASSERT_EQ(m.triangle_count(), 2u);
+  // Vertex 1 (index 0) is corner 0 of both triangles: 90 degrees each.
+  const double h = 1 / std::sqrt(2.0);
+  expect_vec(m.corner_normals[0], h, 0, h);
+  expect_vec(m.corner_normals[3], h, 0, h);
+  // Area weighting would have given (5, 0, 1) / sqrt(26): far from this.
+  EXPECT_GT(std::abs(m.corner_normals[0].x - 5 / std::sqrt(26.0)), 0.2);
+  // Vertex 3 (0,1,0) is shared too: angles atan(1) = 45 deg (+z) and atan(5) (+x).
+  const double a = std::atan(1.0), b = std::atan(5.0), len = std::hypot(a, b);
+  expect_vec(m.corner_normals[2], b / len, 0, a / len);
+  // Vertex 2 and 4 belong to one triangle each: that face's normal.
+  expect_vec(m.corner_normals[1], 0, 0, 1);
+  expect_vec(m.corner_normals[4], 1, 0, 0);
+}
+
+TEST(MeshFileNormals, VerticesAreNotMergedByPosition) {
+  // Two faces at right angles that share an edge by position only.
+  TempDir dir;
+  const MeshFile m = load_mesh_file(dir.write(
+      "split.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 0\nv 1 0 0\nv 0 0 -1\nf 1 2 3\nf 4 6 5\n"));
+  ASSERT_EQ(m.triangle_count(), 2u);
+  for (int k = 0; k < 3; ++k) expect_vec(m.corner_normals[k], 0, 0, 1);
+  for (int k = 3; k < 6; ++k) expect_vec(m.corner_normals[k], 0, -1, 0);
+}
+
+TEST(MeshFileNormals, OppositeFacesOnOneVertexFallBackToTheFaceNormal) {
+  TempDir dir;
+  const MeshFile m = load_mesh_file(dir.write("two-sided.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n"));
+  ASSERT_EQ(m.triangle_count(), 2u);
+  for (int k = 0; k < 3; ++k) expect_vec(m.corner_normals[k], 0, 0, 1);
+  for (int k = 3; k < 6; ++k) expect_vec(m.corner_normals[k], 0, 0, -1);
+}
+
+TEST(MeshFileNormals, DegenerateTrianglesDroppedWithOneCountedWarning) {
+  const fs::path path = fixture("degenerate.obj");
+  const MeshFile m = load_mesh_file(path);
+  ASSERT_EQ(m.triangle_count(), 2u);
+  EXPECT_EQ(m.positions.size(), 4u);  // vertices only the dropped ones used are gone
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_EQ(m.warnings[0], path.string() + ": dropped 2 degenerate triangles");
+  for (const Vec3f& n : m.corner_normals) expect_vec(n, 0, 0, 1);
+  EXPECT_EQ(m.triangle_material.size(), 2u);
+}
+
+// --- PLY -------------------------------------------------------------------
+
+// quad_normals.ply's mesh as binary PLY, little or big endian.
+std::string binary_ply(bool big_endian, int face_count = 2) {
+  const float v[5][6] = {{0, 0, 0, 0, 0, 1}, {1, 0, 0, 0, 0, 1}, {1, 1, 0, 0, 0.6f, 0.8f},
+                         {0, 1, 0, 0, 0, 1}, {2, 0, 0, 0, 0, -1}};
+  std::string out = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                    " 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                    "property float nx\nproperty float ny\nproperty float nz\nelement face " +
+                    std::to_string(face_count) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  auto put = [&](const void* p, size_t n) {
+    std::string bytes(static_cast<const char*>(p), n);
+    if (big_endian) std::reverse(bytes.begin(), bytes.end());
+    out += bytes;
+  };
+  for (const auto& row : v)
+    for (float f : row) put(&f, 4);
+  const std::vector<std::vector<int32_t>> faces = {{0, 1, 2, 3}, {1, 4, 2}};
+  for (const auto& f : faces) {
+    out += static_cast<char>(f.size());
+    for (int32_t i : f) put(&i, 4);
+  }
+  return out;
+}
+
+void expect_quad_normals_mesh(const MeshFile& m) {
+  ASSERT_EQ(m.triangle_count(), 3u);
+  ASSERT_EQ(m.positions.size(), 5u);
+  expect_vec(m.positions[4], 2, 0, 0);
+  // The square's diagonals tie: split as (0,1,3), (1,2,3); then the triangle.
+  const uint32_t want[9] = {0, 1, 3, 1, 2, 3, 1, 4, 2};
+  for (int i = 0; i < 9; ++i) EXPECT_EQ(m.indices[i], want[i]) << i;
+  expect_vec(m.corner_normals[4], 0, 0.6, 0.8);  // vertex 2: the file's normal
+  expect_vec(m.corner_normals[7], 0, 0, -1);     // vertex 4
+  for (int32_t mat : m.triangle_material) EXPECT_EQ(mat, -1);
+  EXPECT_TRUE(m.warnings.empty());
+}
+
+TEST(MeshFilePly, AsciiWithNormalsAndAQuad) { expect_quad_normals_mesh(load_mesh_file(fixture("quad_normals.ply"))); }
+
+TEST(MeshFilePly, BinaryLittleAndBigEndianMatchAscii) {
+  TempDir dir;
+  expect_quad_normals_mesh(load_mesh_file(dir.write("le.ply", binary_ply(false))));
+  expect_quad_normals_mesh(load_mesh_file(dir.write("be.ply", binary_ply(true))));
+}
+
+TEST(MeshFilePly, WithoutNormalsTheyAreComputed) {
+  TempDir dir;
+  const MeshFile m = load_mesh_file(dir.write(
+      "plain.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar uint vertex_index\nend_header\n0 0 0\n0 1 0\n0 0 1\n3 0 1 2\n"));
+  ASSERT_EQ(m.triangle_count(), 1u);
+  for (const Vec3f& n : m.corner_normals) expect_vec(n, 1, 0, 0);
+}
+
+TEST(MeshFilePly, FacesOfFewerThanThreeVerticesAreSkippedWithAWarning) {
+  TempDir dir;
+  const fs::path p = dir.write(
+      "short.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 3\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n0\n");
+  const MeshFile m = load_mesh_file(p);
+  EXPECT_EQ(m.triangle_count(), 1u);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_EQ(m.warnings[0], p.string() + ": skipped 2 faces with fewer than 3 vertices");
+}
+
+// --- glTF ------------------------------------------------------------------
+
+void expect_triangle_gltf(const MeshFile& m) {
+  ASSERT_EQ(m.triangle_count(), 2u);  // one mesh, two nodes
+  ASSERT_EQ(m.materials.size(), 1u);
+  EXPECT_EQ(m.materials[0].name, "paint");
+  expect_color(m.materials[0].diffuse, 0.2, 0.4, 0.6, "baseColorFactor");
+  EXPECT_EQ(m.triangle_material[0], 0);
+  EXPECT_EQ(m.triangle_material[1], 0);
+  // The second node: scale 2, then translate by 5 in x.
+  bool moved = false;
+  for (size_t t = 0; t < 2; ++t) {
+    const Vec3f p = corner_position(m, t, 1);
+    if (p.x > 4) {
+      moved = true;
+      expect_vec(p, 7, 0, 0);
+      expect_vec(corner_position(m, t, 2), 5, 2, 0);
+    }
+  }
+  EXPECT_TRUE(moved);
+  for (const Vec3f& n : m.corner_normals) expect_vec(n, 0, 0, 1);
+}
+
+TEST(MeshFileGltf, NodesPlaceTheMeshAndMaterialsMap) { expect_triangle_gltf(load_mesh_file(fixture("triangle.gltf"))); }
+
+TEST(MeshFileGltf, BinaryGlb) {
+  // triangle.gltf's JSON with its data moved into a GLB's BIN chunk.
+  std::ifstream in(fixture("triangle.gltf"));
+  std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t uri = json.find("\"uri\"");
+  ASSERT_NE(uri, std::string::npos);
+  const size_t end = json.find('"', json.find(':', uri) + 3);
+  json.erase(json.rfind(',', uri), end + 1 - json.rfind(',', uri));
+  while (json.size() % 4) json += ' ';
+  std::string bin(44, '\0');
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const uint16_t idx[3] = {0, 1, 2};
+  std::memcpy(bin.data(), pos, 36);
+  std::memcpy(bin.data() + 36, idx, 6);
+  auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const std::string glb = "glTF" + u32(2) + u32(12 + 8 + json.size() + 8 + bin.size()) + u32(json.size()) + "JSON" +
+                          json + u32(bin.size()) + std::string("BIN\0", 4) + bin;
+  TempDir dir;
+  expect_triangle_gltf(load_mesh_file(dir.write("triangle.glb", glb)));
+  expect_error(dir.write("cut.glb", glb.substr(0, glb.size() - 10)), "truncated");
+}
+
+// --- errors ------------------------------------------------------------------
+
+TEST(MeshFileErrors, MissingFileDirectoryAndUnsupportedFormat) {
+  TempDir dir;
+  expect_error(dir.path() / "nothing.obj", "mesh file not found");
+  fs::create_directories(dir.path() / "folder.obj");
+  expect_error(dir.path() / "folder.obj", "is a directory");
+  expect_error(dir.write("model.stl", "solid x\nendsolid x\n"), "unsupported mesh format '.stl'");
+  expect_error(dir.write("model", "v 0 0 0\n"), "unsupported mesh format ''");
+}
+
+TEST(MeshFileErrors, EmptyFiles) {
+  TempDir dir;
+  expect_error(dir.write("empty.obj", ""), "empty file");
+  expect_error(dir.write("blank.obj", "\n  \n\t\n"), "empty file");
+  expect_error(dir.write("empty.ply", ""), "empty file");
+  expect_error(dir.write("empty.gltf", ""), "empty file");
+}
+
+TEST(MeshFileErrors, NoTriangles) {
+  TempDir dir;
+  expect_error(dir.write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1 2 3\n"), "no triangles (only points or lines)");
+  expect_error(dir.write("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n"), "no triangles (only points or lines)");
+  expect_error(dir.write("cloud.obj", "v 0 0 0\nv 1 0 0\n"), "no triangles (vertices only)");
+  expect_error(dir.write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\n"),
+               "no triangles (all 2 are degenerate)");
+  expect_error(dir.write("cloud.ply",
+                         "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                         "property float z\nend_header\n0 0 0\n1 1 1\n"),
+               "no triangles (vertices only)");
+}
+
+TEST(MeshFileErrors, NotAMeshFile) {
+  TempDir dir;
+  expect_error(dir.write("image.obj", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16)),
+               "not a Wavefront OBJ file (binary content)");
+  expect_error(dir.write("notes.obj", "Shopping list:\n- milk\n- eggs\n"),
+               "no vertices or faces: not a Wavefront OBJ file");
+  expect_error(dir.write("notes.ply", "hello\n"), "not a PLY file");
+  expect_error(dir.write("notes.gltf", "<html></html>"), "not a glTF file");
+  expect_error(dir.write("notes.glb", "just text, no magic"), "not a binary glTF file");
+  expect_error(dir.write("object.gltf", "{\"hello\": 1}"), "cannot read glTF");
+  expect_error(dir.write("obj-inside.gltf", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), "not a glTF file");
+}
+
+TEST(MeshFileErrors, ObjIndicesOutOfRangeWithLineAndColumn) {
+  TempDir dir;
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  expect_error(dir.write("high.obj", v + "f 1 2 3\nf 1 2 9\n"), "vertex index 9 out of range (3 vertices)", 5, 7);
+  expect_error(dir.write("quad.obj", v + "f 1 2 3 4\n"), "vertex index 4 out of range (3 vertices)", 4, 9);
+  expect_error(dir.write("neg.obj", v + "f -1 -2 -4\n"), "vertex index -4 out of range", 4, 9);
+  expect_error(dir.write("normal.obj", v + "vn 0 0 1\nf 1//1 2//1 3//2\n"), "normal index 2 out of range (1 normal)", 5,
+               13);
+  expect_error(dir.write("zero.obj", v + "f 0 1 2\n"), "vertex index of 0 or not a number", 4);
+  expect_error(dir.write("word.obj", v + "f a b c\n"), "vertex index of 0 or not a number", 4);
+}
+
+TEST(MeshFileErrors, ObjNonFiniteVerticesUsedByATriangle) {
+  TempDir dir;
+  expect_error(dir.write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n"),
+               "vertex coordinate 'nan' is not a finite number", 2, 5);
+  expect_error(dir.write("inf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 -INF\nf 1 2 3\n"),
+               "vertex coordinate '-INF' is not a finite number", 3, 7);
+  expect_error(dir.write("huge.obj", "v 0 0 0\n# comment\nv 1 0 1e40\nv 0 1 0\nf 1 2 3\n"),
+               "vertex coordinate is not a finite number", 3);
+  // Not used by any triangle: no error.
+  const MeshFile m = load_mesh_file(dir.write("unused.obj", "v nan 0 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 2 3 4\n"));
+  EXPECT_EQ(m.triangle_count(), 1u);
+  EXPECT_EQ(m.positions.size(), 3u);
+}
+
+const std::string kPlyHead =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+TEST(MeshFileErrors, PlyAsciiBadData) {
+  TempDir dir;
+  expect_error(dir.write("index.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
+               "vertex index 3 out of range (3 vertices)", 13, 7);
+  expect_error(dir.write("negative.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n"), "vertex index -1 out of range",
+               13, 5);
+  expect_error(dir.write("nan.ply", kPlyHead + "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"),
+               "vertex coordinate 'nan' is not a finite number", 11, 3);
+  expect_error(dir.write("inf.ply", kPlyHead + "0 0 0\n1 0 0\n0 1e999 0\n3 0 1 2\n"),
+               "vertex coordinate '1e999' is not a finite number", 12, 3);
+  expect_error(dir.write("float.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 -4e38\n3 0 1 2\n"),
+               "vertex coordinate '-4e38' is not a finite number", 12, 5);
+  expect_error(dir.write("word.ply", kPlyHead + "0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n"), "'zero' is not a number", 11, 3);
+  expect_error(dir.write("short.ply", kPlyHead + "0 0 0\n1 0\n0 1 0\n3 0 1 2\n"), "too few values", 11);
+  // Too short for the counts at all, or short by a record.
+  expect_error(dir.write("cut.ply", kPlyHead + "0 0 0\n1 0 0\n"),
+               "truncated or corrupt: the header claims 3 'vertex' elements but only 12 bytes of data follow", 3);
+  expect_error(dir.write("cut2.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n\n\n\n\n"),
+               "truncated: the header promises 1 'face' elements but the file ends after 0");
+  expect_error(dir.write("list.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n9 0 1 2\n"),
+               "list length 9 does not match the values on the line", 13, 1);
+}
+
+TEST(MeshFileErrors, PlyBadHeaders) {
+  TempDir dir;
+  expect_error(dir.write("noend.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"), "no end_header");
+  expect_error(dir.write("noformat.ply", "ply\nelement vertex 0\nend_header\n"), "no format line");
+  expect_error(dir.write("format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n"),
+               "unknown PLY format 'binary_middle_endian'", 2, 8);
+  expect_error(dir.write("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n"),
+               "unknown PLY type 'quad'", 4, 10);
+  expect_error(dir.write("noxyz.ply",
+                         "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n"),
+               "no x, y, z properties", 3);
+  expect_error(dir.write("novertex.ply", "ply\nformat ascii 1.0\nelement face 0\nend_header\n"), "no vertex element");
+  expect_error(dir.write("count.ply", "ply\nformat ascii 1.0\nelement vertex -3\nend_header\n"),
+               "bad PLY element count '-3'", 3, 16);
+}
+
+TEST(MeshFileErrors, PlyAbsurdCountsAreRefusedBeforeAllocating) {
+  TempDir dir;
+  std::string ascii = kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  ascii.replace(ascii.find("vertex 3"), 8, "vertex 4000000000");
+  expect_error(dir.write("ascii.ply", ascii),
+               "the header claims 4000000000 'vertex' elements but only 26 bytes of data follow", 3);
+  std::string binary = binary_ply(false);
+  binary.replace(binary.find("face 2"), 6, "face 2000000000");
+  expect_error(dir.write("binary.ply", binary), "the header claims 2000000000 'face' elements", 10);
+  // A list length that the rest of the file cannot hold.
+  std::string list = binary_ply(false);
+  list[list.size() - 13] = static_cast<char>(250);
+  expect_error(dir.write("list.ply", list), "truncated");
+}
+
+TEST(MeshFileErrors, PlyBinaryTruncatedAtEveryByteIsAnError) {
+  TempDir dir;
+  const std::string whole = binary_ply(false);
+  const size_t body = whole.find("end_header\n") + 11;
+  for (size_t size = body; size < whole.size(); ++size) {
+    const fs::path p = dir.write("cut.ply", whole.substr(0, size));
+    try {
+      load_mesh_file(p);
+      ADD_FAILURE() << "cut at " << size << " loaded";
+    } catch (const Error& e) {
+      EXPECT_NE(e.message().find("truncated"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(MeshFileErrors, PlyBinaryBadData) {
+  TempDir dir;
+  std::string index = binary_ply(false);
+  index[index.size() - 4] = 7;  // the last index: 2 -> 7
+  expect_error(dir.write("index.ply", index), "face 1: vertex index 7 out of range (5 vertices)");
+  std::string nan = binary_ply(true);
+  const size_t body = nan.find("end_header\n") + 11;
+  const unsigned char quiet_nan[4] = {0x7f, 0xc0, 0, 0};
+  std::memcpy(nan.data() + body + 24 + 4, quiet_nan, 4);  // vertex 1, y
+  expect_error(dir.write("nan.ply", nan), "vertex 1 has a non-finite coordinate");
+}
+
+TEST(MeshFileErrors, GltfBrokenData) {
+  TempDir dir;
+  std::ifstream in(fixture("triangle.gltf"));
+  const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string count = good;
+  count.replace(count.find("\"count\": 3,"), 11, "\"count\": 300000000,");
+  expect_error(dir.write("count.gltf", count), "cannot read glTF");
+  std::string missing = good;
+  missing.replace(missing.find("data:application"), 16, "nowhere.bin#");
+  expect_error(dir.write("missing.gltf", missing), "cannot read glTF");
+}
+
+// assimp 5.2's base64 decoder leaks its buffer when it throws on a bad
+// character (a data: URI in a damaged .gltf). Not ours to fix: the leak
+// checker looks away while such files load.
+struct LeakCheckPause {
+#ifdef GLINT_TEST_ASAN
+  LeakCheckPause() { __lsan_disable(); }
+  ~LeakCheckPause() { __lsan_enable(); }
+#endif
+};
+
+// Random damage to valid files of every format: the loader either reads the
+// result or throws glint::Error; nothing else escapes and nothing crashes.
+TEST(MeshFileErrors, DamagedFilesOnlyEverThrowGlintErrors) {
+  TempDir dir;
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::vector<std::pair<std::string, std::string>> originals = {
+      {"m.obj", slurp(fixture("normals.obj"))},    {"q.obj", slurp(fixture("quads.obj"))},
+      {"a.ply", slurp(fixture("quad_normals.ply"))}, {"le.ply", binary_ply(false)},
+      {"be.ply", binary_ply(true)},                {"t.gltf", slurp(fixture("triangle.gltf"))}};
+  std::mt19937 rng(12345);
+  const char noise[] = {'0', '9', '-', ' ', '\n', '/', 'e', '.', '\0', '\xff', 'n', '#'};
+  for (const auto& [name, original] : originals) {
+    for (int round = 0; round < 150; ++round) {
+      std::string bytes = original;
+      const int edits = 1 + static_cast<int>(rng() % 4);
+      for (int e = 0; e < edits && !bytes.empty(); ++e) {
+        const size_t at = rng() % bytes.size();
+        switch (rng() % 4) {
+          case 0: bytes[at] = noise[rng() % sizeof noise]; break;
+          case 1: bytes.erase(at, 1 + rng() % 8); break;
+          case 2: bytes.insert(at, 1, noise[rng() % sizeof noise]); break;
+          default: bytes[at] = static_cast<char>(rng()); break;
+        }
+      }
+      const fs::path p = dir.write(name, bytes);
+      std::optional<LeakCheckPause> pause;
+      if (p.extension() == ".gltf") pause.emplace();
+      try {
+        const MeshFile m = load_mesh_file(p);
+        // What loads is well formed.
+        ASSERT_EQ(m.indices.size() % 3, 0u);
+        ASSERT_EQ(m.corner_normals.size(), m.indices.size());
+        ASSERT_EQ(m.triangle_material.size(), m.triangle_count());
+        for (uint32_t i : m.indices) ASSERT_LT(i, m.positions.size());
+        for (const Vec3f& n : m.corner_normals) ASSERT_NEAR(std::hypot(n.x, n.y, n.z), 1.0, 1e-4);
+      } catch (const Error&) {
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace glint
