@@ -154,3 +154,20 @@ TEST(FuzzRegressions, SecondByteOrderMarkIsAnErrorAtItsStart) {
 
 }  // namespace
 }  // namespace glint
+
+namespace glint {
+namespace {
+
+// fuzz_mesh_ply: a PLY header with two format lines reached assimp, which
+// leaked; it is now refused by our header check.
+TEST(FuzzRegressions, PlyWithTwoFormatLinesIsRefused) {
+  try {
+    load_mesh_file(std::filesystem::path(GLINT_SOURCE_DIR) / "fuzz/regressions/mesh/ply-two-format-lines.ply");
+    FAIL() << "loaded";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("more than one format line"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace glint

@@ -970,6 +970,8 @@ PlyHeader read_ply_header(std::string_view data, const std::string& file) {
       break;
     }
     if (key == "format") {
+      // A second format line is ambiguous (and trips assimp): refuse it.
+      if (have_format) fail(file, "PLY header has more than one format line", n);
       if (tok.size() < 2) fail(file, "PLY format line needs a format name", n);
       if (tok[1].text == "ascii") h.format = PlyFormat::ascii;
       else if (tok[1].text == "binary_little_endian") h.format = PlyFormat::binary_le;
