@@ -263,7 +263,6 @@ int run_render(const RenderArgs& args) {
   ProgressBar bar;
   if (!args.quiet && isatty(STDERR_FILENO)) options.progress = [&bar](double f) { bar.update(f); };
   RenderStats stats;
-  const size_t done_before = tiles.count_done();
   install_interrupt_handlers();
   const bool complete = render_tiles(scene, *accel, image, tiles, options, &stats);
   if (!complete) {
@@ -281,7 +280,6 @@ int run_render(const RenderArgs& args) {
   write_image(image, output);
   std::error_code ignored;
   std::filesystem::remove(resume_path, ignored);  // finished: any resume file is stale
-  (void)done_before;
 
   if (!args.quiet) {
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

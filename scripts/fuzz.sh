@@ -15,24 +15,8 @@ if [ ${#TARGETS[@]} -eq 0 ]; then
 fi
 case "$MINUTES" in ''|*[!0-9.]*) echo "usage: scripts/fuzz.sh [MINUTES] [TARGET...]" >&2; exit 2;; esac
 
-# clang and its compiler-rt (libFuzzer, ASan, UBSan), as install-deps.sh does
-# for the rest: as root apt-get installs them, otherwise print the line to run.
-scripts/install-deps.sh
-missing=()
-for p in clang libclang-rt-dev; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  if [ "$(id -u)" -ne 0 ]; then
-    echo "fuzzing needs these Debian packages; run as root:" >&2
-    echo "  apt-get update && apt-get install -y ${missing[*]}" >&2
-    exit 1
-  fi
-  echo "installing: ${missing[*]}" >&2
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq
-  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+# clang and its compiler-rt (libFuzzer, ASan, UBSan), with everything else glint needs.
+scripts/install-deps.sh clang libclang-rt-dev
 
 # Asserts stay on (no NDEBUG): a broken precondition is a finding too.
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DGLINT_FUZZ=ON \

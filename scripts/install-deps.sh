@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages glint needs to build and test, if any are missing.
 # As root it runs apt-get; otherwise it prints the apt-get line to run.
+# Extra package names given as arguments are checked too (scripts/fuzz.sh).
 set -euo pipefail
 PACKAGES=(
   cmake ninja-build g++ pkg-config
@@ -8,6 +9,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtinyobjloader-dev libassimp-dev
   python3 python3-jsonschema
+  "$@"
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
