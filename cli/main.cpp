@@ -39,9 +39,14 @@ struct RenderArgs {
   std::string scene_path, output_path;
   std::optional<int> width, height, spp, max_depth, threads;
   std::optional<std::string> shading_model;
+  std::string accel = "bvh";
   bool quiet = false;
   bool resume = false;
 };
+
+glint::AccelBackend backend_named(const std::string& name) {
+  return name == "embree" ? glint::AccelBackend::embree : glint::AccelBackend::bvh;
+}
 
 // Set by SIGINT/SIGTERM: the render stops, writes what it has and a resume
 // file. A second signal kills at once (SA_RESETHAND).
@@ -256,7 +261,7 @@ int run_render(const RenderArgs& args) {
     tiles = TileProgress(r.width, r.height, 16);
   }
 
-  const auto accel = build_accelerator(scene, AcceleratorOptions{args.threads.value_or(0)});
+  const auto accel = build_accelerator(scene, AcceleratorOptions{args.threads.value_or(0), backend_named(args.accel)});
   RenderOptions options;
   options.threads = args.threads.value_or(0);
   options.cancel = &g_interrupted;
@@ -314,6 +319,8 @@ int main(int argc, char** argv) {
       ->check(one_of({"phong", "blinn-phong"}, "shading model"));
   render->add_option("--threads", args.threads, "worker threads (default: all cores)")
       ->check(whole_number_in(1, 1024));
+  render->add_option("--accel", args.accel, "ray tracing kernel: bvh (ours) or embree (Intel Embree)")
+      ->check(one_of({"bvh", "embree"}, "accelerator"));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
 

@@ -7,7 +7,7 @@ PACKAGES=(
   cmake ninja-build g++ pkg-config
   nlohmann-json3-dev libstb-dev libpng-dev libtinyexr-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libtinyobjloader-dev libassimp-dev
+  libtinyobjloader-dev libassimp-dev libembree-dev
   python3 python3-jsonschema
   "$@"
 )

@@ -93,6 +93,14 @@ bool intersect_object(const Scene& scene, uint32_t index, const Ray& world_ray, 
   return intersect_shape(scene, object, index, to_object_space(scene, object, world_ray), hit, mesh_bvhs);
 }
 
+Hit refine_mesh_hit(const Scene& scene, uint32_t object, uint32_t triangle, const Ray& world_ray) {
+  const Object& o = scene.objects[object];
+  const Ray ray = to_object_space(scene, o, world_ray);
+  const Triangle tri = mesh_triangle(scene.meshes[o.shape], triangle);
+  const TriangleHit h = triangle_plane_hit(tri, ray);
+  return Hit{h.t, object, h.b1, h.b2, 0, triangle};
+}
+
 bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, const std::vector<Bvh>* mesh_bvhs) {
   const Object& object = scene.objects[index];
   if (object.type == ShapeType::mesh)
@@ -212,6 +220,7 @@ class BruteForceAccelerator final : public Accelerator {
 }  // namespace
 
 std::unique_ptr<Accelerator> build_accelerator(const Scene& scene, const AcceleratorOptions& options) {
+  if (options.backend == AccelBackend::embree) return build_embree_accelerator(scene, options);
   return std::make_unique<BvhAccelerator>(scene, options);
 }
 

@@ -46,13 +46,30 @@ class Accelerator {
   virtual size_t memory_bytes() const = 0;
 };
 
+// Which traversal kernel answers the queries: our BVH, or Intel Embree (when
+// glint was built with it). Both give the same hits up to float ties: Embree's
+// float hits on mesh triangles are refined in double by our triangle test.
+enum class AccelBackend { bvh, embree };
+
 struct AcceleratorOptions {
-  int threads = 0;
+  int threads = 0;  // build threads; 0: all cores
+  AccelBackend backend = AccelBackend::bvh;
 };
 
-// Our SAH BVH over every finite object; infinite planes are tested apart.
+// Our SAH BVH over every finite object (or Embree's, per options.backend);
+// infinite planes are tested apart.
 std::unique_ptr<Accelerator> build_accelerator(const Scene& scene,
                                                const AcceleratorOptions& options = {});
+
+// True when this build of glint has the Embree backend.
+bool embree_available();
+// Throws glint::Error when Embree is not available.
+std::unique_ptr<Accelerator> build_embree_accelerator(const Scene& scene, const AcceleratorOptions& options);
+
+// A mesh object's triangle against a world-space ray, in double, without
+// range or edge rejection: how the Embree backend turns its float hit into
+// the same t and barycentrics our own test gives.
+Hit refine_mesh_hit(const Scene& scene, uint32_t object, uint32_t triangle, const Ray& world_ray);
 // Tests every object for every ray: the reference the BVH is checked against.
 std::unique_ptr<Accelerator> build_brute_force(const Scene& scene);
 

@@ -33,23 +33,65 @@ std::optional<double> intersect_plane(const Plane& p, const Ray& ray) {
   return std::nullopt;
 }
 
+namespace {
+
+// The watertight ray/triangle test of Woop, Benthin and Wald (JCGT 2013):
+// vertices are moved into a frame where the ray runs along +z from the
+// origin, and the 2D edge functions decide the hit. An edge shared by two
+// triangles gets the same function with the opposite sign in both, computed
+// from the same numbers, so a ray through the edge hits at least one of them:
+// no cracks. Each function is a difference of two products; when rounding
+// makes one exactly zero, it is recomputed in long double.
+struct ShearedTriangle {
+  double e0, e1, e2;  // edge functions: weights of v0, v1, v2 (unnormalized)
+  double det;         // e0 + e1 + e2
+  double t_scaled;    // t * det
+};
+
+ShearedTriangle shear_triangle(const Triangle& tri, const Ray& ray) {
+  const Vec3& d = ray.direction;
+  const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+  const int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  const int kx = kz == 2 ? 0 : kz + 1;
+  const int ky = kx == 2 ? 0 : kx + 1;
+  const double sx = -d[kx] / d[kz], sy = -d[ky] / d[kz], sz = 1.0 / d[kz];
+  const Vec3 a = tri.v0 - ray.origin, b = tri.v1 - ray.origin, c = tri.v2 - ray.origin;
+  const double ax2 = a[kx] + sx * a[kz], ay2 = a[ky] + sy * a[kz];
+  const double bx2 = b[kx] + sx * b[kz], by2 = b[ky] + sy * b[kz];
+  const double cx2 = c[kx] + sx * c[kz], cy2 = c[ky] + sy * c[kz];
+  ShearedTriangle s;
+  s.e0 = bx2 * cy2 - by2 * cx2;
+  s.e1 = cx2 * ay2 - cy2 * ax2;
+  s.e2 = ax2 * by2 - ay2 * bx2;
+  if (s.e0 == 0.0 || s.e1 == 0.0 || s.e2 == 0.0) {
+    using L = long double;
+    s.e0 = static_cast<double>(L(bx2) * L(cy2) - L(by2) * L(cx2));
+    s.e1 = static_cast<double>(L(cx2) * L(ay2) - L(cy2) * L(ax2));
+    s.e2 = static_cast<double>(L(ax2) * L(by2) - L(ay2) * L(bx2));
+  }
+  s.det = s.e0 + s.e1 + s.e2;
+  s.t_scaled = (s.e0 * a[kz] + s.e1 * b[kz] + s.e2 * c[kz]) * sz;
+  return s;
+}
+
+}  // namespace
+
 std::optional<TriangleHit> intersect_triangle(const Triangle& tri, const Ray& ray) {
-  // Moller-Trumbore in double precision.
-  const Vec3 e1 = tri.v1 - tri.v0;
-  const Vec3 e2 = tri.v2 - tri.v0;
-  const Vec3 pvec = cross(ray.direction, e2);
-  const double det = dot(e1, pvec);
-  if (det == 0.0 || !std::isfinite(det)) return std::nullopt;
-  const double inv_det = 1.0 / det;
-  const Vec3 tvec = ray.origin - tri.v0;
-  const double b1 = dot(tvec, pvec) * inv_det;
-  if (b1 < 0.0 || b1 > 1.0) return std::nullopt;
-  const Vec3 qvec = cross(tvec, e1);
-  const double b2 = dot(ray.direction, qvec) * inv_det;
-  if (b2 < 0.0 || b1 + b2 > 1.0) return std::nullopt;
-  const double t = dot(e2, qvec) * inv_det;
-  if (t > ray.t_min && t < ray.t_max) return TriangleHit{t, b1, b2};
-  return std::nullopt;
+  const ShearedTriangle s = shear_triangle(tri, ray);
+  // Inside when all three edge functions share a sign (zero counts as both).
+  if ((s.e0 < 0 || s.e1 < 0 || s.e2 < 0) && (s.e0 > 0 || s.e1 > 0 || s.e2 > 0)) return std::nullopt;
+  if (s.det == 0.0 || !std::isfinite(s.det)) return std::nullopt;  // edge-on, or degenerate
+  const double inv_det = 1.0 / s.det;
+  const double t = s.t_scaled * inv_det;
+  if (!(t > ray.t_min && t < ray.t_max)) return std::nullopt;
+  return TriangleHit{t, s.e1 * inv_det, s.e2 * inv_det};
+}
+
+TriangleHit triangle_plane_hit(const Triangle& tri, const Ray& ray) {
+  const ShearedTriangle s = shear_triangle(tri, ray);
+  if (s.det == 0.0 || !std::isfinite(s.det)) return TriangleHit{kInfinity, 0, 0};
+  const double inv_det = 1.0 / s.det;
+  return TriangleHit{s.t_scaled * inv_det, s.e1 * inv_det, s.e2 * inv_det};
 }
 
 std::optional<BoxHit> intersect_box(const Box& box, const Ray& ray) {
