@@ -364,6 +364,8 @@ int main(int argc, char** argv) {
   app.add_option("--width", width);
   app.add_option("--height", height);
   app.add_option("--repeat", repeat, "runs per measurement; the best is reported");
+  bool only_ours = false;
+  app.add_flag("--only-ours", only_ours, "measure our BVH alone (for profiling)");
   CLI11_PARSE(app, argc, argv);
   const std::vector<size_t> sizes = parse_list(sizes_arg);
   const std::vector<size_t> thread_counts = parse_list(threads_arg);
@@ -379,8 +381,10 @@ int main(int argc, char** argv) {
     kernels.push_back(accelerator_kernel("glint-bvh", scene, glint::AccelBackend::bvh, g_keep_ours));
     const RaySet rays = make_rays(scene, *g_keep_ours, width, height);
 #if GLINT_HAVE_EMBREE
+    if (!only_ours) {
     kernels.push_back(accelerator_kernel("glint-embree", scene, glint::AccelBackend::embree, g_keep_embree_backend));
     kernels.push_back(embree_kernel(scene));
+    }
 #endif
     std::printf("rays: %zu camera, %zu shadow, %zu mirror\n", rays.camera.size(), rays.shadow.size(),
                 rays.mirror.size());

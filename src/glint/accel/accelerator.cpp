@@ -1,6 +1,7 @@
 #include "glint/accel/accelerator.h"
 
 #include "glint/accel/bvh.h"
+#include "glint/accel/mesh_bvh.h"
 #include "glint/geometry/shapes.h"
 
 namespace glint {
@@ -13,35 +14,42 @@ Triangle mesh_triangle(const Mesh& mesh, uint32_t triangle) {
 namespace {
 
 // Closest hit among a mesh's triangles (ray in the mesh's space): through its
-// BVH when there is one, else every triangle.
-bool intersect_mesh(const Mesh& mesh, const Bvh* bvh, uint32_t index, const Ray& object_ray, Hit& hit) {
+// BVH when there is one (float blocks, then the winner refined in double),
+// else every triangle in double.
+bool intersect_mesh(const Mesh& mesh, const MeshBvh* bvh, uint32_t index, const Ray& object_ray, Hit& hit) {
+  if (bvh) {
+    uint32_t triangle = 0;
+    float t = 0;
+    if (!intersect_mesh_bvh(*bvh, object_ray, triangle, t)) return false;
+    const TriangleHit h = triangle_plane_hit(mesh_triangle(mesh, triangle), object_ray);
+    // The double crossing of a float hit can fall just outside the interval
+    // (grazing rays, hits at t_min): the float distance stands then.
+    hit = Hit{h.t > object_ray.t_min && h.t < object_ray.t_max ? h.t : static_cast<double>(t), index, h.b1, h.b2, 0,
+              triangle};
+    return true;
+  }
   Ray ray = object_ray;
   bool found = false;
-  auto test = [&](uint32_t triangle, Ray& r) {
-    const auto h = intersect_triangle(mesh_triangle(mesh, triangle), r);
-    if (!h) return false;
-    hit = Hit{h->t, index, h->b1, h->b2, 0, triangle};
-    r.t_max = h->t;
-    return true;
-  };
-  if (bvh) return traverse_closest(*bvh, ray, test);
-  for (uint32_t t = 0; t < mesh.triangle_count(); ++t) found |= test(t, ray);
+  for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+    const auto h = intersect_triangle(mesh_triangle(mesh, t), ray);
+    if (!h) continue;
+    hit = Hit{h->t, index, h->b1, h->b2, 0, t};
+    ray.t_max = h->t;
+    found = true;
+  }
   return found;
 }
 
-bool occludes_mesh(const Mesh& mesh, const Bvh* bvh, const Ray& ray) {
-  auto hits = [&](uint32_t triangle, const Ray& r) {
-    return intersect_triangle(mesh_triangle(mesh, triangle), r).has_value();
-  };
-  if (bvh) return traverse_any(*bvh, ray, hits);
+bool occludes_mesh(const Mesh& mesh, const MeshBvh* bvh, const Ray& ray) {
+  if (bvh) return occluded_mesh_bvh(*bvh, ray);
   for (uint32_t t = 0; t < mesh.triangle_count(); ++t)
-    if (hits(t, ray)) return true;
+    if (intersect_triangle(mesh_triangle(mesh, t), ray)) return true;
   return false;
 }
 
 // `ray` is in the object's own space.
 inline bool intersect_shape(const Scene& scene, const Object& object, uint32_t index, const Ray& ray, Hit& hit,
-                            const std::vector<Bvh>* mesh_bvhs) {
+                            const std::vector<MeshBvh>* mesh_bvhs) {
   switch (object.type) {
     case ShapeType::sphere:
       if (auto t = intersect_sphere(scene.spheres[object.shape], ray)) {
@@ -87,7 +95,7 @@ inline Ray to_object_space(const Scene& scene, const Object& object, const Ray& 
 }  // namespace
 
 bool intersect_object(const Scene& scene, uint32_t index, const Ray& world_ray, Hit& hit,
-                      const std::vector<Bvh>* mesh_bvhs) {
+                      const std::vector<MeshBvh>* mesh_bvhs) {
   const Object& object = scene.objects[index];
   if (object.transform == kNoTransform) return intersect_shape(scene, object, index, world_ray, hit, mesh_bvhs);
   return intersect_shape(scene, object, index, to_object_space(scene, object, world_ray), hit, mesh_bvhs);
@@ -101,7 +109,7 @@ Hit refine_mesh_hit(const Scene& scene, uint32_t object, uint32_t triangle, cons
   return Hit{h.t, object, h.b1, h.b2, 0, triangle};
 }
 
-bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, const std::vector<Bvh>* mesh_bvhs) {
+bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, const std::vector<MeshBvh>* mesh_bvhs) {
   const Object& object = scene.objects[index];
   if (object.type == ShapeType::mesh)
     return occludes_mesh(scene.meshes[object.shape], mesh_bvhs ? &(*mesh_bvhs)[object.shape] : nullptr,
@@ -120,16 +128,7 @@ class BvhAccelerator final : public Accelerator {
     BvhBuildOptions build_options;
     build_options.threads = options.threads;
     mesh_bvhs_.reserve(scene.meshes.size());
-    for (const Mesh& mesh : scene.meshes) {
-      std::vector<Bounds3> triangle_bounds(mesh.triangle_count());
-      for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
-        const Triangle tri = mesh_triangle(mesh, t);
-        triangle_bounds[t].extend(tri.v0);
-        triangle_bounds[t].extend(tri.v1);
-        triangle_bounds[t].extend(tri.v2);
-      }
-      mesh_bvhs_.push_back(build_bvh(triangle_bounds, build_options, mesh.bounds.center()));
-    }
+    for (const Mesh& mesh : scene.meshes) mesh_bvhs_.push_back(build_mesh_bvh(mesh, build_options));
     std::vector<Bounds3> bounds(scene.objects.size());
     for (uint32_t i = 0; i < scene.objects.size(); ++i) {
       if (scene.objects[i].type == ShapeType::plane)
@@ -176,15 +175,14 @@ class BvhAccelerator final : public Accelerator {
   size_t memory_bytes() const override {
     size_t bytes = bvh_.nodes.capacity() * sizeof(Bvh4Node) + bvh_.primitives.capacity() * sizeof(uint32_t) +
                    planes_.capacity() * sizeof(uint32_t);
-    for (const Bvh& b : mesh_bvhs_)
-      bytes += b.nodes.capacity() * sizeof(Bvh4Node) + b.primitives.capacity() * sizeof(uint32_t);
+    for (const MeshBvh& b : mesh_bvhs_) bytes += b.memory_bytes();
     return bytes;
   }
 
  private:
   const Scene& scene_;
   std::vector<uint32_t> planes_;
-  std::vector<Bvh> mesh_bvhs_;
+  std::vector<MeshBvh> mesh_bvhs_;
   Bvh bvh_;
 };
 

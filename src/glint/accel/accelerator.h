@@ -21,7 +21,7 @@ struct Hit {
   uint32_t primitive = 0; // mesh objects: the triangle
 };
 
-struct Bvh;
+struct MeshBvh;
 
 // A mesh triangle in the mesh's own space, as doubles.
 Triangle mesh_triangle(const Mesh& mesh, uint32_t triangle);
@@ -31,9 +31,9 @@ Triangle mesh_triangle(const Mesh& mesh, uint32_t triangle);
 // `mesh_bvhs` (one per Scene::meshes entry) speeds up mesh objects; without
 // it every triangle is tested.
 bool intersect_object(const Scene& scene, uint32_t object, const Ray& ray, Hit& hit,
-                      const std::vector<Bvh>* mesh_bvhs = nullptr);
+                      const std::vector<MeshBvh>* mesh_bvhs = nullptr);
 bool occludes_object(const Scene& scene, uint32_t object, const Ray& ray,
-                     const std::vector<Bvh>* mesh_bvhs = nullptr);
+                     const std::vector<MeshBvh>* mesh_bvhs = nullptr);
 
 class Accelerator {
  public:

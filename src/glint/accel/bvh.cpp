@@ -108,7 +108,7 @@ class Builder {
         acc.extend(bin_bounds[b]);
         n += bin_count[b];
         if (n == 0 || right_count[b + 1] == 0) continue;
-        const double cost = acc.surface_area() * n + right_area[b + 1] * right_count[b + 1];
+        const double cost = acc.surface_area() * blocks(n) + right_area[b + 1] * blocks(right_count[b + 1]);
         if (cost < best_cost) {
           best_cost = cost;
           best_axis = a;
@@ -117,7 +117,7 @@ class Builder {
       }
     }
     // Leaf if splitting does not pay: traversal step costs about one primitive test.
-    const double leaf_cost = static_cast<double>(count);
+    const double leaf_cost = blocks(count);
     const double split_cost = 1.0 + best_cost / bounds.surface_area();
     if (best_axis < 0 || (count <= static_cast<size_t>(options_.max_leaf_size) && leaf_cost <= split_cost))
       return make_leaf(index, begin, end);
@@ -134,6 +134,11 @@ class Builder {
   }
 
  private:
+  double blocks(size_t n) const {
+    const size_t b = static_cast<size_t>(options_.block_size);
+    return static_cast<double>((n + b - 1) / b);
+  }
+
   uint32_t make_leaf(uint32_t index, size_t begin, size_t end) {
     BinaryNode& n = out_.nodes[index];
     n.offset = static_cast<uint32_t>(out_.primitives.size());
@@ -284,6 +289,7 @@ Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, c
   const double pad = extent * 0x1p-20;
   bvh.nodes.reserve(tree.nodes.size() / 2 + 1);
   Collapser(tree, pad, bvh).collapse(0);
+  bvh.nodes.shrink_to_fit();  // the reserve above is an upper bound
   bvh.primitives = std::move(tree.primitives);
   return bvh;
 }

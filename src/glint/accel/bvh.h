@@ -30,6 +30,9 @@ static_assert(sizeof(Bvh4Node) == 128);
 struct BvhBuildOptions {
   int max_leaf_size = 4;
   int threads = 0;  // 0: all cores
+  // Leaves are tested this many primitives at a time (SIMD triangle blocks):
+  // the SAH counts a leaf's cost in blocks, so it fills them.
+  int block_size = 1;
 };
 
 struct Bvh {
@@ -84,10 +87,11 @@ inline float clamp_to_float(double t) {
   return t >= 3.0e38 ? INFINITY : static_cast<float>(t);
 }
 
-// Closest hit: `intersect(prim, ray)` returns true and shrinks ray.t_max when
-// the primitive is hit nearer than ray.t_max. Children are visited near to far.
-template <class IntersectFn>
-bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
+// Closest hit over leaves: `leaf(first, count, ray)` tests a leaf's range
+// (first/count as stored in the node) and returns true after shrinking
+// ray.t_max to a nearer hit. Children are visited near to far.
+template <class LeafFn>
+bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf) {
   if (bvh.nodes.empty()) return false;
   const RaySlabs4 slabs(ray);
   struct Entry { uint32_t child, count; float t; };
@@ -95,17 +99,21 @@ bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
   int top = 0;
   bool found = false;
   const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
+  float t_max = clamp_to_float(ray.t_max);
   stack[top++] = {0, 0, -INFINITY};
   while (top > 0) {
     const Entry e = stack[--top];
-    if (e.t > clamp_to_float(ray.t_max) * (1.0f + 0x1p-20f)) continue;  // a nearer hit was found since
+    if (e.t > t_max * (1.0f + 0x1p-20f)) continue;  // a nearer hit was found since
     if (e.count > 0) {
-      for (uint32_t i = 0; i < e.count; ++i) found |= intersect(bvh.primitives[e.child + i], ray);
+      if (leaf(e.child, e.count, ray)) {
+        found = true;
+        t_max = clamp_to_float(ray.t_max);
+      }
       continue;
     }
     const Bvh4Node& n = bvh.nodes[e.child];
     __m128 t_near;
-    int mask = hit_children(n, slabs, t_min, clamp_to_float(ray.t_max), t_near);
+    int mask = hit_children(n, slabs, t_min, t_max, t_near);
     if (!mask) continue;
     alignas(16) float t[4];
     _mm_store_ps(t, t_near);
@@ -128,9 +136,21 @@ bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
   return found;
 }
 
-// Any hit: stops at the first primitive for which `hits(prim, ray)` is true.
-template <class HitsFn>
-bool traverse_any(const Bvh& bvh, const Ray& ray, HitsFn&& hits) {
+// Closest hit: `intersect(prim, ray)` returns true and shrinks ray.t_max when
+// the primitive is hit nearer than ray.t_max.
+template <class IntersectFn>
+bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
+  return traverse_closest_leaves(bvh, ray, [&](uint32_t first, uint32_t count, Ray& r) {
+    bool found = false;
+    for (uint32_t i = 0; i < count; ++i) found |= intersect(bvh.primitives[first + i], r);
+    return found;
+  });
+}
+
+// Any hit over leaves: stops at the first leaf for which `leaf(first, count,
+// ray)` is true.
+template <class LeafFn>
+bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf) {
   if (bvh.nodes.empty()) return false;
   const RaySlabs4 slabs(ray);
   struct Entry { uint32_t child, count; };
@@ -142,8 +162,7 @@ bool traverse_any(const Bvh& bvh, const Ray& ray, HitsFn&& hits) {
   while (top > 0) {
     const Entry e = stack[--top];
     if (e.count > 0) {
-      for (uint32_t i = 0; i < e.count; ++i)
-        if (hits(bvh.primitives[e.child + i], ray)) return true;
+      if (leaf(e.child, e.count, ray)) return true;
       continue;
     }
     const Bvh4Node& n = bvh.nodes[e.child];
@@ -156,6 +175,16 @@ bool traverse_any(const Bvh& bvh, const Ray& ray, HitsFn&& hits) {
     }
   }
   return false;
+}
+
+// Any hit: stops at the first primitive for which `hits(prim, ray)` is true.
+template <class HitsFn>
+bool traverse_any(const Bvh& bvh, const Ray& ray, HitsFn&& hits) {
+  return traverse_any_leaves(bvh, ray, [&](uint32_t first, uint32_t count, const Ray& r) {
+    for (uint32_t i = 0; i < count; ++i)
+      if (hits(bvh.primitives[first + i], r)) return true;
+    return false;
+  });
 }
 
 }  // namespace glint

@@ -57,6 +57,9 @@ class EmbreeAccelerator final : public Accelerator {
     mesh_scenes_.reserve(scene.meshes.size());
     for (const Mesh& mesh : scene.meshes) {
       RTCScene mesh_scene = rtcNewScene(device_);
+      // Robust mode: Embree's watertight triangle test, so no ray slips
+      // between adjacent triangles (the default mode leaks on shared edges).
+      rtcSetSceneFlags(mesh_scene, RTC_SCENE_FLAG_ROBUST);
       RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
       // Copied, not shared: Embree reads vertex buffers 16 bytes at a time
       // and needs padding after the last vertex that our vector lacks.
@@ -79,6 +82,7 @@ class EmbreeAccelerator final : public Accelerator {
     }
 
     top_ = rtcNewScene(device_);
+    rtcSetSceneFlags(top_, RTC_SCENE_FLAG_ROBUST);
     std::vector<uint32_t> analytic;
     for (uint32_t i = 0; i < scene.objects.size(); ++i) {
       const Object& object = scene.objects[i];

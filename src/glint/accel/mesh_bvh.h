@@ -1,0 +1,40 @@
+// MeshBvh: our BVH over one mesh's triangles. The SAH build fills leaves of
+// up to four triangles, and each leaf is stored as one block of four
+// triangles in float SoA layout, tested at once with SSE by the watertight
+// algorithm of Woop, Benthin and Wald (JCGT 2013). Float is enough to pick
+// the triangle (mesh vertices are floats); the caller refines the winner in
+// double for shading.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "glint/accel/bvh.h"
+#include "glint/scene/scene.h"
+
+namespace glint {
+
+struct alignas(16) Triangle4 {
+  float v[3][3][4];  // v[vertex][axis][lane]; unused lanes hold NaN (never hit)
+  uint32_t id[4];    // the mesh's triangle index per lane
+};
+static_assert(sizeof(Triangle4) == 160);
+
+struct MeshBvh {
+  Bvh bvh;  // leaves: child = first block, count = number of blocks
+  std::vector<Triangle4> blocks;
+  size_t memory_bytes() const {
+    return bvh.nodes.capacity() * sizeof(Bvh4Node) + bvh.primitives.capacity() * sizeof(uint32_t) +
+           blocks.capacity() * sizeof(Triangle4);
+  }
+};
+
+MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options = {});
+
+// The nearest triangle hit in (ray.t_min, ray.t_max), in float: its index
+// and distance. False when none.
+bool intersect_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray, uint32_t& triangle, float& t);
+// Whether any triangle is hit in (ray.t_min, ray.t_max).
+bool occluded_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray);
+
+}  // namespace glint
