@@ -13,6 +13,35 @@ constexpr int kBins = 16;
 constexpr int kMaxDepth = 60;  // bounds the traversal stack (see bvh.h)
 constexpr size_t kParallelMinPrimitives = 4096;
 
+// Float boxes with SSE min/max; lane 3 is unused. Rounded outward from the
+// callers' double boxes, so they still contain them.
+struct Box4f {
+  __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY);
+  void extend(__m128 l, __m128 h) {
+    lo = _mm_min_ps(lo, l);
+    hi = _mm_max_ps(hi, h);
+  }
+  void extend(const Box4f& b) { extend(b.lo, b.hi); }
+  float axis_lo(int a) const { alignas(16) float v[4]; _mm_store_ps(v, lo); return v[a]; }
+  float axis_hi(int a) const { alignas(16) float v[4]; _mm_store_ps(v, hi); return v[a]; }
+  double half_area() const {
+    alignas(16) float l[4], h[4];
+    _mm_store_ps(l, lo);
+    _mm_store_ps(h, hi);
+    if (l[0] > h[0] || l[1] > h[1] || l[2] > h[2]) return 0.0;
+    const double dx = double(h[0]) - l[0], dy = double(h[1]) - l[1], dz = double(h[2]) - l[2];
+    return dx * dy + dy * dz + dz * dx;
+  }
+  Bounds3 to_bounds() const {
+    Bounds3 b;
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = axis_lo(a);
+      b.hi[a] = axis_hi(a);
+    }
+    return b;
+  }
+};
+
 // The binary tree the SAH build makes; collapsed into Bvh4Node afterwards.
 struct BinaryNode {
   Bounds3 bounds;
@@ -20,10 +49,15 @@ struct BinaryNode {
   uint32_t count = 0;   // 0: interior, first child = next node
 };
 
-struct PrimRef {
-  Bounds3 bounds;
-  Vec3 centroid;
+// 32 bytes: the primitive's float box with its id in the lo box's lane 3.
+struct alignas(16) PrimRef {
+  float lo[3];
   uint32_t id;
+  float hi[3];
+  float unused;
+  __m128 lo4() const { return _mm_load_ps(lo); }
+  __m128 hi4() const { return _mm_load_ps(hi); }
+  __m128 centroid2() const { return _mm_add_ps(lo4(), hi4()); }  // twice the center: only compared
 };
 
 // Float boxes that always contain the double box: round outward.
@@ -49,66 +83,78 @@ class Builder {
   uint32_t build(size_t begin, size_t end, int depth) {
     const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
     out_.nodes.emplace_back();
-    Bounds3 bounds, centroids;
+    Box4f bounds, centroids;
     for (size_t i = begin; i < end; ++i) {
-      bounds.extend(refs_[i].bounds);
-      centroids.extend(refs_[i].centroid);
+      bounds.extend(refs_[i].lo4(), refs_[i].hi4());
+      const __m128 c = refs_[i].centroid2();
+      centroids.extend(c, c);
     }
-    out_.nodes[index].bounds = bounds;
+    out_.nodes[index].bounds = bounds.to_bounds();
     const size_t count = end - begin;
 
     size_t mid = begin;
-    const int axis = centroids.longest_axis();
+    alignas(16) float c_lo[4], c_hi[4];
+    _mm_store_ps(c_lo, centroids.lo);
+    _mm_store_ps(c_hi, centroids.hi);
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (c_hi[a] - c_lo[a] > c_hi[axis] - c_lo[axis]) axis = a;
     if (count == 1) return make_leaf(index, begin, end);
-    if (centroids.diagonal()[axis] <= 0.0) {
+    if (!(c_hi[axis] > c_lo[axis])) {
       // All centroids coincide: no split separates them, so halve the list
       // when it is too long for one leaf.
       if (count <= static_cast<size_t>(options_.max_leaf_size)) return make_leaf(index, begin, end);
       mid = begin + count / 2;
-      return make_interior(index, begin, mid, end, axis, depth);
+      return make_interior(index, begin, mid, end, depth);
     }
     if (depth >= kMaxDepth) {
       // Degenerate distribution: an object-median split bounds the depth.
       mid = begin + count / 2;
       std::nth_element(refs_.begin() + begin, refs_.begin() + mid, refs_.begin() + end,
                        [axis](const PrimRef& a, const PrimRef& b) {
-                         return a.centroid[axis] < b.centroid[axis];
+                         return a.lo[axis] + a.hi[axis] < b.lo[axis] + b.hi[axis];
                        });
-      return make_interior(index, begin, mid, end, axis, depth);
+      return make_interior(index, begin, mid, end, depth);
     }
 
-    // Binned SAH over all three axes.
+    // Binned SAH over all three axes in one pass over the primitives.
+    float scale[3];
+    for (int a = 0; a < 3; ++a) scale[a] = c_hi[a] > c_lo[a] ? kBins * 0.99999f / (c_hi[a] - c_lo[a]) : 0.0f;
+    std::array<std::array<Box4f, kBins>, 3> bin_bounds;
+    std::array<std::array<uint32_t, kBins>, 3> bin_count{};
+    for (size_t i = begin; i < end; ++i) {
+      const PrimRef& r = refs_[i];
+      const __m128 l = r.lo4(), h = r.hi4();
+      alignas(16) float c[4];
+      _mm_store_ps(c, _mm_add_ps(l, h));
+      for (int a = 0; a < 3; ++a) {
+        const int b = bin_of(c[a], c_lo[a], scale[a]);
+        bin_count[a][b]++;
+        bin_bounds[a][b].extend(l, h);
+      }
+    }
     double best_cost = kInfinity;
     int best_axis = -1, best_split = -1;
     for (int a = 0; a < 3; ++a) {
-      const double extent = centroids.hi[a] - centroids.lo[a];
-      if (extent <= 0.0) continue;
-      std::array<Bounds3, kBins> bin_bounds;
-      std::array<size_t, kBins> bin_count{};
-      const double scale = kBins / extent;
-      for (size_t i = begin; i < end; ++i) {
-        int b = std::min(kBins - 1, static_cast<int>((refs_[i].centroid[a] - centroids.lo[a]) * scale));
-        bin_count[b]++;
-        bin_bounds[b].extend(refs_[i].bounds);
-      }
+      if (scale[a] == 0.0f) continue;
       // Sweep from the right to get the right-side areas, then from the left.
       std::array<double, kBins> right_area{};
       std::array<size_t, kBins> right_count{};
-      Bounds3 acc;
+      Box4f acc;
       size_t n = 0;
       for (int b = kBins - 1; b > 0; --b) {
-        acc.extend(bin_bounds[b]);
-        n += bin_count[b];
-        right_area[b] = acc.surface_area();
+        acc.extend(bin_bounds[a][b]);
+        n += bin_count[a][b];
+        right_area[b] = acc.half_area();
         right_count[b] = n;
       }
-      acc = Bounds3{};
+      acc = Box4f{};
       n = 0;
       for (int b = 0; b < kBins - 1; ++b) {
-        acc.extend(bin_bounds[b]);
-        n += bin_count[b];
+        acc.extend(bin_bounds[a][b]);
+        n += bin_count[a][b];
         if (n == 0 || right_count[b + 1] == 0) continue;
-        const double cost = acc.surface_area() * blocks(n) + right_area[b + 1] * blocks(right_count[b + 1]);
+        const double cost = acc.half_area() * blocks(n) + right_area[b + 1] * blocks(right_count[b + 1]);
         if (cost < best_cost) {
           best_cost = cost;
           best_axis = a;
@@ -118,22 +164,25 @@ class Builder {
     }
     // Leaf if splitting does not pay: traversal step costs about one primitive test.
     const double leaf_cost = blocks(count);
-    const double split_cost = 1.0 + best_cost / bounds.surface_area();
+    const double area = bounds.half_area();
+    const double split_cost = 1.0 + (area > 0 ? best_cost / area : 0.0);
     if (best_axis < 0 || (count <= static_cast<size_t>(options_.max_leaf_size) && leaf_cost <= split_cost))
       return make_leaf(index, begin, end);
 
-    const double lo = centroids.lo[best_axis];
-    const double scale = kBins / (centroids.hi[best_axis] - lo);
+    const float lo = c_lo[best_axis], sc = scale[best_axis];
     auto it = std::partition(refs_.begin() + begin, refs_.begin() + end, [&](const PrimRef& r) {
-      int b = std::min(kBins - 1, static_cast<int>((r.centroid[best_axis] - lo) * scale));
-      return b <= best_split;
+      return bin_of(r.lo[best_axis] + r.hi[best_axis], lo, sc) <= best_split;
     });
     mid = static_cast<size_t>(it - refs_.begin());
     if (mid == begin || mid == end) mid = begin + count / 2;  // cannot happen, but never loop
-    return make_interior(index, begin, mid, end, best_axis, depth);
+    return make_interior(index, begin, mid, end, depth);
   }
 
  private:
+  static int bin_of(float c, float lo, float scale) {
+    return std::clamp(static_cast<int>((c - lo) * scale), 0, kBins - 1);
+  }
+
   double blocks(size_t n) const {
     const size_t b = static_cast<size_t>(options_.block_size);
     return static_cast<double>((n + b - 1) / b);
@@ -147,8 +196,7 @@ class Builder {
     return index;
   }
 
-  uint32_t make_interior(uint32_t index, size_t begin, size_t mid, size_t end, int axis, int depth) {
-    (void)axis;
+  uint32_t make_interior(uint32_t index, size_t begin, size_t mid, size_t end, int depth) {
     uint32_t second;
     if (depth < parallel_depth_ && end - begin >= kParallelMinPrimitives) {
       // The two halves own disjoint ranges of refs_: build them at once into
@@ -268,8 +316,12 @@ Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, c
   Bounds3 scene;
   for (size_t i = 0; i < bounds.size(); ++i) {
     if (!is_finite_box(bounds[i])) continue;
-    refs.push_back({bounds[i], bounds[i].center(), static_cast<uint32_t>(i)});
-    scene.extend(bounds[i]);
+    const Bounds3& b = bounds[i];
+    refs.push_back(PrimRef{{round_down(b.lo.x), round_down(b.lo.y), round_down(b.lo.z)},
+                           static_cast<uint32_t>(i),
+                           {round_up(b.hi.x), round_up(b.hi.y), round_up(b.hi.z)},
+                           0.0f});
+    scene.extend(b);
   }
   Bvh bvh;
   if (refs.empty()) return bvh;
