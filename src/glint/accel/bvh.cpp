@@ -24,13 +24,13 @@ struct Box4f {
   void extend(const Box4f& b) { extend(b.lo, b.hi); }
   float axis_lo(int a) const { alignas(16) float v[4]; _mm_store_ps(v, lo); return v[a]; }
   float axis_hi(int a) const { alignas(16) float v[4]; _mm_store_ps(v, hi); return v[a]; }
-  double half_area() const {
-    alignas(16) float l[4], h[4];
-    _mm_store_ps(l, lo);
-    _mm_store_ps(h, hi);
-    if (l[0] > h[0] || l[1] > h[1] || l[2] > h[2]) return 0.0;
-    const double dx = double(h[0]) - l[0], dy = double(h[1]) - l[1], dz = double(h[2]) - l[2];
-    return dx * dy + dy * dz + dz * dx;
+  // Half the surface area (what SAH compares); an empty box gives infinity.
+  float half_area() const {
+    const __m128 d = _mm_sub_ps(hi, lo);
+    const __m128 p = _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)));  // xy, yz, zx
+    alignas(16) float v[4];
+    _mm_store_ps(v, p);
+    return v[0] + v[1] + v[2];
   }
   Bounds3 to_bounds() const {
     Bounds3 b;
@@ -118,8 +118,10 @@ class Builder {
     }
 
     // Binned SAH over all three axes in one pass over the primitives.
+    // Small nodes get fewer bins: the sweeps below cost as much as the binning.
+    const int bins = static_cast<int>(std::min<size_t>(kBins, std::max<size_t>(count, 4)));
     float scale[3];
-    for (int a = 0; a < 3; ++a) scale[a] = c_hi[a] > c_lo[a] ? kBins * 0.99999f / (c_hi[a] - c_lo[a]) : 0.0f;
+    for (int a = 0; a < 3; ++a) scale[a] = c_hi[a] > c_lo[a] ? bins * 0.99999f / (c_hi[a] - c_lo[a]) : 0.0f;
     std::array<std::array<Box4f, kBins>, 3> bin_bounds;
     std::array<std::array<uint32_t, kBins>, 3> bin_count{};
     for (size_t i = begin; i < end; ++i) {
@@ -128,7 +130,7 @@ class Builder {
       alignas(16) float c[4];
       _mm_store_ps(c, _mm_add_ps(l, h));
       for (int a = 0; a < 3; ++a) {
-        const int b = bin_of(c[a], c_lo[a], scale[a]);
+        const int b = bin_of(c[a], c_lo[a], scale[a], bins);
         bin_count[a][b]++;
         bin_bounds[a][b].extend(l, h);
       }
@@ -142,7 +144,7 @@ class Builder {
       std::array<size_t, kBins> right_count{};
       Box4f acc;
       size_t n = 0;
-      for (int b = kBins - 1; b > 0; --b) {
+      for (int b = bins - 1; b > 0; --b) {
         acc.extend(bin_bounds[a][b]);
         n += bin_count[a][b];
         right_area[b] = acc.half_area();
@@ -150,11 +152,11 @@ class Builder {
       }
       acc = Box4f{};
       n = 0;
-      for (int b = 0; b < kBins - 1; ++b) {
+      for (int b = 0; b < bins - 1; ++b) {
         acc.extend(bin_bounds[a][b]);
         n += bin_count[a][b];
         if (n == 0 || right_count[b + 1] == 0) continue;
-        const double cost = acc.half_area() * blocks(n) + right_area[b + 1] * blocks(right_count[b + 1]);
+        const double cost = double(acc.half_area()) * blocks(n) + right_area[b + 1] * blocks(right_count[b + 1]);
         if (cost < best_cost) {
           best_cost = cost;
           best_axis = a;
@@ -171,7 +173,7 @@ class Builder {
 
     const float lo = c_lo[best_axis], sc = scale[best_axis];
     auto it = std::partition(refs_.begin() + begin, refs_.begin() + end, [&](const PrimRef& r) {
-      return bin_of(r.lo[best_axis] + r.hi[best_axis], lo, sc) <= best_split;
+      return bin_of(r.lo[best_axis] + r.hi[best_axis], lo, sc, bins) <= best_split;
     });
     mid = static_cast<size_t>(it - refs_.begin());
     if (mid == begin || mid == end) mid = begin + count / 2;  // cannot happen, but never loop
@@ -179,8 +181,8 @@ class Builder {
   }
 
  private:
-  static int bin_of(float c, float lo, float scale) {
-    return std::clamp(static_cast<int>((c - lo) * scale), 0, kBins - 1);
+  static int bin_of(float c, float lo, float scale, int bins) {
+    return std::clamp(static_cast<int>((c - lo) * scale), 0, bins - 1);
   }
 
   double blocks(size_t n) const {
