@@ -39,13 +39,15 @@ struct RenderArgs {
   std::string scene_path, output_path;
   std::optional<int> width, height, spp, max_depth, threads;
   std::optional<std::string> shading_model;
-  std::string accel = "bvh";
+  std::string accel = "auto";
   bool quiet = false;
   bool resume = false;
 };
 
 glint::AccelBackend backend_named(const std::string& name) {
-  return name == "embree" ? glint::AccelBackend::embree : glint::AccelBackend::bvh;
+  if (name == "embree") return glint::AccelBackend::embree;
+  if (name == "bvh") return glint::AccelBackend::bvh;
+  return glint::AccelBackend::automatic;
 }
 
 // Set by SIGINT/SIGTERM: the render stops, writes what it has and a resume
@@ -158,7 +160,8 @@ int run_explain(const ExplainArgs& args) {
   if (args.max_depth) r.max_depth = *args.max_depth;
   if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
   r.samples_per_pixel = 1;  // explain follows the pixel's center ray
-  const auto accel = build_accelerator(scene);
+  // The same kernel `render` picks by default, so the numbers match its pixels.
+  const auto accel = build_accelerator(scene, AcceleratorOptions{0, AccelBackend::automatic});
   const PixelExplanation e = explain_pixel(scene, *accel, args.pixel.at(0), args.pixel.at(1));
   const std::string text = args.json ? explanation_json(scene, e) : explanation_text(scene, e);
   std::fwrite(text.data(), 1, text.size(), stdout);
@@ -290,10 +293,11 @@ int run_render(const RenderArgs& args) {
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const RayStats& rays = stats.rays;
     std::fprintf(stderr,
-                 "glint: %s: %dx%d, %d spp, %d thread%s: render %.3f s (total %.3f s); rays: %s camera, "
+                 "glint: %s: %dx%d, %d spp, %d thread%s, %s: render %.3f s (total %.3f s); rays: %s camera, "
                  "%s shadow, %s reflection, %s refraction; %.2f Mrays/s\n",
                  args.output_path.c_str(), r.width, r.height, r.samples_per_pixel, stats.threads,
                  stats.threads == 1 ? "" : "s",
+                 resolve_backend(scene, backend_named(args.accel)) == AccelBackend::embree ? "embree" : "bvh",
                  stats.seconds, total, format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
                  format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
                  stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
@@ -319,8 +323,10 @@ int main(int argc, char** argv) {
       ->check(one_of({"phong", "blinn-phong"}, "shading model"));
   render->add_option("--threads", args.threads, "worker threads (default: all cores)")
       ->check(whole_number_in(1, 1024));
-  render->add_option("--accel", args.accel, "ray tracing kernel: bvh (ours) or embree (Intel Embree)")
-      ->check(one_of({"bvh", "embree"}, "accelerator"));
+  render->add_option("--accel", args.accel,
+                     "ray tracing kernel: bvh (ours), embree (Intel Embree), or auto (default: embree for "
+                     "scenes of 100k+ mesh triangles when built with it, else bvh)")
+      ->check(one_of({"auto", "bvh", "embree"}, "accelerator"));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
 

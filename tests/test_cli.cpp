@@ -332,6 +332,19 @@ TEST_F(CliOptions, ThreadsDoNotChangeTheImage) {
   EXPECT_TRUE(same_pixels(got, library_render(path("scene.json"))));
 }
 
+TEST_F(CliOptions, AccelBackends) {
+  // The test scene has analytic shapes only: both kernels run our double tests.
+  const glint::Image ours = render("bvh.pfm", "--accel bvh");
+  EXPECT_TRUE(same_pixels(ours, library_render(path("scene.json"))));
+  EXPECT_TRUE(same_pixels(render("auto.pfm", "--accel auto"), ours));
+  if (glint::embree_available()) {
+    EXPECT_TRUE(same_pixels(render("embree.pfm", "--accel embree"), ours));
+  } else {
+    expect_failure("render scene.json -o {out} --accel embree", "built without Embree");
+  }
+  expect_failure("render scene.json -o {out} --accel octree", "--accel: unknown accelerator \"octree\"");
+}
+
 // --- determinism ------------------------------------------------------------------
 
 TEST_F(CliDeterminism, SameBytesWithOneTwoAndSevenThreads) {
@@ -395,7 +408,7 @@ TEST_F(CliStats, HelpExitsZero) {
   const RunResult sub = run("render --help");
   EXPECT_EQ(sub.exit_code, 0);
   for (const char* option : {"--output", "--width", "--height", "--spp", "--max-depth", "--shading-model", "--threads",
-                             "--quiet"})
+                             "--accel", "--quiet"})
     EXPECT_NE(sub.out.find(option), std::string::npos) << option;
   EXPECT_EQ(listing(), before);
 }

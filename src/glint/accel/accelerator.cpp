@@ -217,8 +217,16 @@ class BruteForceAccelerator final : public Accelerator {
 
 }  // namespace
 
+AccelBackend resolve_backend(const Scene& scene, AccelBackend requested) {
+  if (requested != AccelBackend::automatic) return requested;
+  size_t triangles = 0;
+  for (const Object& o : scene.objects)
+    if (o.type == ShapeType::mesh) triangles += scene.meshes[o.shape].triangle_count();
+  return embree_available() && triangles >= kEmbreeMinTriangles ? AccelBackend::embree : AccelBackend::bvh;
+}
+
 std::unique_ptr<Accelerator> build_accelerator(const Scene& scene, const AcceleratorOptions& options) {
-  if (options.backend == AccelBackend::embree) return build_embree_accelerator(scene, options);
+  if (resolve_backend(scene, options.backend) == AccelBackend::embree) return build_embree_accelerator(scene, options);
   return std::make_unique<BvhAccelerator>(scene, options);
 }
 

@@ -49,7 +49,11 @@ class Accelerator {
 // Which traversal kernel answers the queries: our BVH, or Intel Embree (when
 // glint was built with it). Both give the same hits up to float ties: Embree's
 // float hits on mesh triangles are refined in double by our triangle test.
-enum class AccelBackend { bvh, embree };
+// `automatic` picks what measured faster (README, Performance): Embree for
+// scenes with at least kEmbreeMinTriangles mesh triangles when it is
+// available, our BVH otherwise.
+enum class AccelBackend { bvh, embree, automatic };
+inline constexpr size_t kEmbreeMinTriangles = 100000;
 
 struct AcceleratorOptions {
   int threads = 0;  // build threads; 0: all cores
@@ -63,6 +67,8 @@ std::unique_ptr<Accelerator> build_accelerator(const Scene& scene,
 
 // True when this build of glint has the Embree backend.
 bool embree_available();
+// What `automatic` means for this scene (bvh or embree).
+AccelBackend resolve_backend(const Scene& scene, AccelBackend requested);
 // Throws glint::Error when Embree is not available.
 std::unique_ptr<Accelerator> build_embree_accelerator(const Scene& scene, const AcceleratorOptions& options);
 
