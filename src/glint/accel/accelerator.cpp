@@ -173,7 +173,7 @@ class BvhAccelerator final : public Accelerator {
   }
 
   size_t memory_bytes() const override {
-    size_t bytes = bvh_.nodes.capacity() * sizeof(Bvh4Node) + bvh_.primitives.capacity() * sizeof(uint32_t) +
+    size_t bytes = bvh_.nodes.capacity() * sizeof(BvhNode) + bvh_.primitives.capacity() * sizeof(uint32_t) +
                    planes_.capacity() * sizeof(uint32_t);
     for (const MeshBvh& b : mesh_bvhs_) bytes += b.memory_bytes();
     return bytes;

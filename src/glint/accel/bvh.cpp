@@ -42,7 +42,7 @@ struct Box4f {
   }
 };
 
-// The binary tree the SAH build makes; collapsed into Bvh4Node afterwards.
+// The binary tree the SAH build makes; collapsed into BvhNode afterwards.
 struct BinaryNode {
   Bounds3 bounds;
   uint32_t offset = 0;  // leaf: first primitive; interior: second child
@@ -239,9 +239,9 @@ class Builder {
   int parallel_depth_;  // subtrees above this depth are built on their own threads
 };
 
-// Collapses the binary tree into 4-wide nodes: each 4-wide node takes a
+// Collapses the binary tree into wide nodes: each wide node takes a
 // binary node's children and keeps opening the largest interior one until it
-// has four.
+// has kBvhWidth.
 class Collapser {
  public:
   Collapser(const BinaryTree& tree, double pad, Bvh& out) : tree_(tree), pad_(pad), out_(out) {}
@@ -249,7 +249,7 @@ class Collapser {
   uint32_t collapse(uint32_t binary_index) {
     const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
     out_.nodes.emplace_back();
-    uint32_t slots[4];
+    uint32_t slots[kBvhWidth];
     int used = 0;
     const BinaryNode& root = tree_.nodes[binary_index];
     if (root.count > 0) {
@@ -257,7 +257,7 @@ class Collapser {
     } else {
       slots[used++] = binary_index + 1;
       slots[used++] = root.offset;
-      while (used < 4) {
+      while (used < kBvhWidth) {
         int best = -1;
         double best_area = -1;
         for (int i = 0; i < used; ++i) {
@@ -274,7 +274,7 @@ class Collapser {
         slots[used++] = second;
       }
     }
-    uint32_t child[4] = {0, 0, 0, 0}, count[4] = {0, 0, 0, 0};
+    uint32_t child[kBvhWidth] = {}, count[kBvhWidth] = {};
     for (int i = 0; i < used; ++i) {
       const BinaryNode& n = tree_.nodes[slots[i]];
       if (n.count > 0) {
@@ -284,8 +284,8 @@ class Collapser {
         child[i] = collapse(slots[i]);
       }
     }
-    Bvh4Node& node = out_.nodes[index];  // re-fetch: the vector may have grown
-    for (int i = 0; i < 4; ++i) {
+    BvhNode& node = out_.nodes[index];  // re-fetch: the vector may have grown
+    for (int i = 0; i < kBvhWidth; ++i) {
       node.child[i] = child[i];
       node.count[i] = count[i];
       for (int a = 0; a < 3; ++a) {

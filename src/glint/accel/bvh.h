@@ -1,6 +1,6 @@
 // Bvh: our bounding volume hierarchy. Built by binned SAH as a binary tree,
-// then collapsed into 4-wide nodes whose four child boxes are tested at once
-// with SSE. Leaves are ranges of a reordered primitive-index array. It knows
+// then collapsed into wide nodes whose child boxes are tested at once: 8-wide
+// with AVX where the compiler may use it, else 4-wide with SSE. Leaves are ranges of a reordered primitive-index array. It knows
 // only boxes: callers pass the per-primitive test, so one traversal serves
 // spheres, boxes and triangles alike.
 #pragma once
@@ -17,15 +17,40 @@
 
 namespace glint {
 
-// Four child boxes in SoA layout (bounds[axis*2 + 0/1][child] = lo/hi).
+// The SIMD register the node test uses, and so the node width.
+#if defined(__AVX__)
+inline constexpr int kBvhWidth = 8;
+using FloatLanes = __m256;
+inline FloatLanes lanes_set1(float v) { return _mm256_set1_ps(v); }
+inline FloatLanes lanes_load(const float* p) { return _mm256_load_ps(p); }
+inline void lanes_store(float* p, FloatLanes v) { _mm256_store_ps(p, v); }
+inline FloatLanes lanes_sub(FloatLanes a, FloatLanes b) { return _mm256_sub_ps(a, b); }
+inline FloatLanes lanes_mul(FloatLanes a, FloatLanes b) { return _mm256_mul_ps(a, b); }
+inline FloatLanes lanes_max(FloatLanes a, FloatLanes b) { return _mm256_max_ps(a, b); }
+inline FloatLanes lanes_min(FloatLanes a, FloatLanes b) { return _mm256_min_ps(a, b); }
+inline int lanes_le_mask(FloatLanes a, FloatLanes b) { return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ)); }
+#else
+inline constexpr int kBvhWidth = 4;
+using FloatLanes = __m128;
+inline FloatLanes lanes_set1(float v) { return _mm_set1_ps(v); }
+inline FloatLanes lanes_load(const float* p) { return _mm_load_ps(p); }
+inline void lanes_store(float* p, FloatLanes v) { _mm_store_ps(p, v); }
+inline FloatLanes lanes_sub(FloatLanes a, FloatLanes b) { return _mm_sub_ps(a, b); }
+inline FloatLanes lanes_mul(FloatLanes a, FloatLanes b) { return _mm_mul_ps(a, b); }
+inline FloatLanes lanes_max(FloatLanes a, FloatLanes b) { return _mm_max_ps(a, b); }
+inline FloatLanes lanes_min(FloatLanes a, FloatLanes b) { return _mm_min_ps(a, b); }
+inline int lanes_le_mask(FloatLanes a, FloatLanes b) { return _mm_movemask_ps(_mm_cmple_ps(a, b)); }
+#endif
+
+// kBvhWidth child boxes in SoA layout (bounds[axis*2 + 0/1][child] = lo/hi).
 // child[i] is a node index when count[i] == 0, else the first primitive of
 // a leaf of count[i] primitives; unused slots have an empty box.
-struct alignas(64) Bvh4Node {
-  float bounds[6][4];
-  uint32_t child[4];
-  uint32_t count[4];
+struct alignas(64) BvhNode {
+  float bounds[6][kBvhWidth];
+  uint32_t child[kBvhWidth];
+  uint32_t count[kBvhWidth];
 };
-static_assert(sizeof(Bvh4Node) == 128);
+static_assert(sizeof(BvhNode) == 32 * kBvhWidth);
 
 struct BvhBuildOptions {
   int max_leaf_size = 4;
@@ -36,7 +61,7 @@ struct BvhBuildOptions {
 };
 
 struct Bvh {
-  std::vector<Bvh4Node> nodes;       // nodes[0] is the root
+  std::vector<BvhNode> nodes;       // nodes[0] is the root
   std::vector<uint32_t> primitives;  // leaf ranges index this; values are caller's ids
   bool empty() const { return nodes.empty(); }
 };
@@ -48,15 +73,15 @@ struct Bvh {
 Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options = {},
               const Vec3& origin_hint = Vec3(0.0));
 
-// Per-ray constants for the 4-wide slab test.
-struct RaySlabs4 {
-  __m128 origin[3], inv_dir[3];
+// Per-ray constants for the wide slab test.
+struct RaySlabs {
+  FloatLanes origin[3], inv_dir[3];
   int near_lo[3];  // row of bounds[] holding the near plane per axis
-  explicit RaySlabs4(const Ray& ray) {
+  explicit RaySlabs(const Ray& ray) {
     for (int a = 0; a < 3; ++a) {
       const float inv = static_cast<float>(1.0 / ray.direction[a]);
-      origin[a] = _mm_set1_ps(static_cast<float>(ray.origin[a]));
-      inv_dir[a] = _mm_set1_ps(inv);
+      origin[a] = lanes_set1(static_cast<float>(ray.origin[a]));
+      inv_dir[a] = lanes_set1(inv);
       // From the inverse, so a direction of -0.0 (inverse -inf) counts as negative.
       near_lo[a] = std::signbit(inv) ? 1 : 0;
     }
@@ -65,23 +90,28 @@ struct RaySlabs4 {
 
 // Bit i set when the ray overlaps child i within (t_min, t_max); `t_near`
 // gets the entry distances.
-inline int hit_children(const Bvh4Node& n, const RaySlabs4& r, float t_min, float t_max, __m128& t_near) {
-  __m128 lo_t = _mm_set1_ps(t_min), hi_t = _mm_set1_ps(t_max);
+inline int hit_children(const BvhNode& n, const RaySlabs& r, float t_min, float t_max, FloatLanes& t_near) {
+  FloatLanes lo_t = lanes_set1(t_min), hi_t = lanes_set1(t_max);
   for (int a = 0; a < 3; ++a) {
-    const __m128 near_plane = _mm_load_ps(n.bounds[2 * a + r.near_lo[a]]);
-    const __m128 far_plane = _mm_load_ps(n.bounds[2 * a + 1 - r.near_lo[a]]);
-    const __m128 t0 = _mm_mul_ps(_mm_sub_ps(near_plane, r.origin[a]), r.inv_dir[a]);
-    const __m128 t1 = _mm_mul_ps(_mm_sub_ps(far_plane, r.origin[a]), r.inv_dir[a]);
-    // maxps/minps return the second operand when one is NaN (origin on a slab
+    const FloatLanes near_plane = lanes_load(n.bounds[2 * a + r.near_lo[a]]);
+    const FloatLanes far_plane = lanes_load(n.bounds[2 * a + 1 - r.near_lo[a]]);
+    const FloatLanes t0 = lanes_mul(lanes_sub(near_plane, r.origin[a]), r.inv_dir[a]);
+    const FloatLanes t1 = lanes_mul(lanes_sub(far_plane, r.origin[a]), r.inv_dir[a]);
+    // max/min return the second operand when one is NaN (origin on a slab
     // of a parallel ray): the running interval wins, keeping the box.
-    lo_t = _mm_max_ps(t0, lo_t);
-    hi_t = _mm_min_ps(t1, hi_t);
+    lo_t = lanes_max(t0, lo_t);
+    hi_t = lanes_min(t1, hi_t);
   }
   // Widen the far end by a few float ulps: the slab arithmetic rounds.
-  hi_t = _mm_mul_ps(hi_t, _mm_set1_ps(1.0f + 4.0f * 0x1p-23f));
+  hi_t = lanes_mul(hi_t, lanes_set1(1.0f + 4.0f * 0x1p-23f));
   t_near = lo_t;
-  return _mm_movemask_ps(_mm_cmple_ps(lo_t, hi_t));
+  return lanes_le_mask(lo_t, hi_t);
 }
+
+// Each node visited pushes at most kBvhWidth - 1 more entries than it pops,
+// and the build bounds the depth to 60 binary levels (bvh.cpp), so the
+// wide tree is at most 60 deep too.
+inline constexpr int kTraversalStack = (kBvhWidth - 1) * 64;
 
 inline float clamp_to_float(double t) {
   return t >= 3.0e38 ? INFINITY : static_cast<float>(t);
@@ -93,9 +123,9 @@ inline float clamp_to_float(double t) {
 template <class LeafFn>
 bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf) {
   if (bvh.nodes.empty()) return false;
-  const RaySlabs4 slabs(ray);
+  const RaySlabs slabs(ray);
   struct Entry { uint32_t child, count; float t; };
-  Entry stack[256];
+  Entry stack[kTraversalStack];
   int top = 0;
   bool found = false;
   const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
@@ -111,14 +141,14 @@ bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf) {
       }
       continue;
     }
-    const Bvh4Node& n = bvh.nodes[e.child];
-    __m128 t_near;
+    const BvhNode& n = bvh.nodes[e.child];
+    FloatLanes t_near;
     int mask = hit_children(n, slabs, t_min, t_max, t_near);
     if (!mask) continue;
-    alignas(16) float t[4];
-    _mm_store_ps(t, t_near);
+    alignas(32) float t[kBvhWidth];
+    lanes_store(t, t_near);
     // Push far to near so the nearest child is popped first.
-    Entry hits[4];
+    Entry hits[kBvhWidth];
     int k = 0;
     while (mask) {
       const int i = __builtin_ctz(mask);
@@ -152,9 +182,9 @@ bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
 template <class LeafFn>
 bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf) {
   if (bvh.nodes.empty()) return false;
-  const RaySlabs4 slabs(ray);
+  const RaySlabs slabs(ray);
   struct Entry { uint32_t child, count; };
-  Entry stack[256];
+  Entry stack[kTraversalStack];
   int top = 0;
   const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
   const float t_max = clamp_to_float(ray.t_max);
@@ -165,8 +195,8 @@ bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf) {
       if (leaf(e.child, e.count, ray)) return true;
       continue;
     }
-    const Bvh4Node& n = bvh.nodes[e.child];
-    __m128 t_near;
+    const BvhNode& n = bvh.nodes[e.child];
+    FloatLanes t_near;
     int mask = hit_children(n, slabs, t_min, t_max, t_near);
     while (mask) {
       const int i = __builtin_ctz(mask);

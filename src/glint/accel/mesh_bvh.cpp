@@ -17,8 +17,8 @@ MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options) {
   out.bvh = build_bvh(bounds, block_options, mesh.bounds.center());
   bounds = {};
   // Leaves hold ranges of bvh.primitives: turn each into blocks of four.
-  for (Bvh4Node& node : out.bvh.nodes) {
-    for (int slot = 0; slot < 4; ++slot) {
+  for (BvhNode& node : out.bvh.nodes) {
+    for (int slot = 0; slot < kBvhWidth; ++slot) {
       if (node.count[slot] == 0) continue;
       const uint32_t first = node.child[slot], count = node.count[slot];
       const uint32_t first_block = static_cast<uint32_t>(out.blocks.size());

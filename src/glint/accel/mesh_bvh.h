@@ -24,7 +24,7 @@ struct MeshBvh {
   Bvh bvh;  // leaves: child = first block, count = number of blocks
   std::vector<Triangle4> blocks;
   size_t memory_bytes() const {
-    return bvh.nodes.capacity() * sizeof(Bvh4Node) + bvh.primitives.capacity() * sizeof(uint32_t) +
+    return bvh.nodes.capacity() * sizeof(BvhNode) + bvh.primitives.capacity() * sizeof(uint32_t) +
            blocks.capacity() * sizeof(Triangle4);
   }
 };
