@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -371,6 +372,9 @@ int main(int argc, char** argv) {
   const std::vector<size_t> thread_counts = parse_list(threads_arg);
 
   std::printf("glint_bench_accel: %dx%d camera rays, best of %d; Mrays/s\n\n", width, height, repeat);
+  // Scaling: per kernel, per size, the cost of a camera ray and a mirror ray
+  // at the first thread count (1 / Mrays/s), for the curve at the end.
+  std::vector<std::pair<std::string, std::vector<std::pair<size_t, std::array<double, 2>>>>> scaling;
   for (size_t target : sizes) {
     const auto t_gen = Clock::now();
     glint::Scene scene = make_scene(target);
@@ -411,6 +415,9 @@ int main(int argc, char** argv) {
       }
       std::printf("\n");
       results.push_back(row);
+      auto it = std::find_if(scaling.begin(), scaling.end(), [&](const auto& e) { return e.first == k.name; });
+      if (it == scaling.end()) it = scaling.insert(scaling.end(), {k.name, {}});
+      it->second.push_back({tris, {row[0], row[2]}});
     }
     if (kernels.size() == 3) {
       const Kernel& ours = kernels[0];
@@ -433,6 +440,17 @@ int main(int argc, char** argv) {
 #if GLINT_HAVE_EMBREE
     g_keep_embree.reset();
 #endif
+  }
+  if (sizes.size() > 1) {
+    std::printf("scaling at %zu thread(s): time per ray relative to the smallest mesh (camera / mirror)\n",
+                thread_counts.front());
+    for (const auto& [name, points] : scaling) {
+      std::printf("%-13s", name.c_str());
+      for (const auto& [tris, m] : points)
+        std::printf("  %zuk: %.2f / %.2f", tris / 1000, points.front().second[0] / m[0],
+                    points.front().second[1] / m[1]);
+      std::printf("\n");
+    }
   }
   return 0;
 }
