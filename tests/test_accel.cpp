@@ -12,6 +12,7 @@
 #include "glint/geometry/shapes.h"
 #include "glint/io/scene_loader.h"
 #include "glint/math/rng.h"
+#include "glint/render/camera.h"
 #include "glint/render/renderer.h"
 
 namespace glint {
@@ -204,6 +205,49 @@ TEST(MeshBvh, SameClosestHitsAsBruteForceOnRandomRays) {
   }
   EXPECT_GT(hits, 2000);
   EXPECT_EQ(mismatches, 0);
+}
+
+// --- packets ----------------------------------------------------------------
+
+TEST(Packets, SameHitsAsSingleRays) {
+  Scene scene;
+  Mesh sphere = icosphere(4, 1.0);  // 5120 triangles
+  add_mesh_object(scene, add_mesh(scene, std::move(sphere)), 0, true,
+                  Transform::rotate(normalize(Vec3(1, 2, 3)), 30.0));
+  add_plane(scene, Plane{{0, -0.5, 0}, {0, 1, 0}});
+  scene.camera.position = Vec3(0.3, 0.8, 3.0);
+  scene.camera.look_at = Vec3(0, 0, 0);
+  const auto accel = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
+  const CameraFrame frame = make_camera_frame(scene.camera, 64, 48);
+  int hits = 0, packets = 0;
+  for (int y = 0; y < 48; ++y) {
+    for (int x0 = 0; x0 < 64; x0 += kPacketSize) {
+      const int count = x0 + kPacketSize <= 64 ? kPacketSize : 64 - x0;
+      Ray rays[kPacketSize];
+      for (int i = 0; i < count; ++i) rays[i] = generate_camera_ray(frame, (x0 + i + 0.5) / 64, (y + 0.5) / 48);
+      std::optional<Hit> got[kPacketSize];
+      accel->intersect_packet(rays, count, got);
+      ++packets;
+      for (int i = 0; i < count; ++i) {
+        const auto want = accel->intersect(rays[i]);
+        ASSERT_EQ(got[i].has_value(), want.has_value()) << x0 + i << " " << y;
+        if (!want) continue;
+        ++hits;
+        EXPECT_EQ(got[i]->object, want->object);
+        EXPECT_EQ(got[i]->primitive, want->primitive);
+        EXPECT_EQ(got[i]->t, want->t);
+        EXPECT_EQ(got[i]->b1, want->b1);
+      }
+    }
+  }
+  EXPECT_GT(hits, 1000);
+  // A packet of rays in opposite directions is traced ray by ray, still right.
+  Ray mixed[2] = {make_ray({0, 0, 3}, {0, 0, -1}), make_ray({0, 0, -3}, {0, 0, 1})};
+  std::optional<Hit> got[2];
+  accel->intersect_packet(mixed, 2, got);
+  ASSERT_TRUE(got[0] && got[1]);
+  EXPECT_NEAR(got[0]->t, 2.0, 1e-2);
+  EXPECT_NEAR(got[1]->t, 2.0, 1e-2);
 }
 
 // --- both backends ---------------------------------------------------------

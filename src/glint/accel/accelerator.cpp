@@ -137,6 +137,14 @@ class BvhAccelerator final : public Accelerator {
         bounds[i] = object_bounds(scene, i);
     }
     bvh_ = build_bvh(bounds, build_options, scene.camera.position);
+    // Packets take the fast path when the only finite object is one mesh.
+    uint32_t finite = 0;
+    for (uint32_t i = 0; i < scene.objects.size(); ++i)
+      if (scene.objects[i].type != ShapeType::plane) {
+        ++finite;
+        single_mesh_ = scene.objects[i].type == ShapeType::mesh ? i : kNone;
+      }
+    if (finite != 1) single_mesh_ = kNone;
   }
 
   std::optional<Hit> intersect(const Ray& world_ray) const override {
@@ -156,6 +164,34 @@ class BvhAccelerator final : public Accelerator {
     });
     if (!found) return std::nullopt;
     return best;
+  }
+
+  void intersect_packet(const Ray* rays, int count, std::optional<Hit>* hits) const override {
+    if (single_mesh_ == kNone || count > kPacketSize) return Accelerator::intersect_packet(rays, count, hits);
+    const Object& object = scene_.objects[single_mesh_];
+    Ray object_rays[kPacketSize];
+    for (int i = 0; i < count; ++i) object_rays[i] = to_object_space(scene_, object, rays[i]);
+    RayPacket packet = make_ray_packet(object_rays, count);
+    if (!intersect_mesh_packet(mesh_bvhs_[object.shape], packet)) return Accelerator::intersect_packet(rays, count, hits);
+    const Mesh& mesh = scene_.meshes[object.shape];
+    for (int i = 0; i < count; ++i) {
+      Ray ray = rays[i];
+      hits[i].reset();
+      if (packet.triangle[i] != kNoTriangle) {
+        // Refined in double, as intersect_mesh does.
+        const TriangleHit h = triangle_plane_hit(mesh_triangle(mesh, packet.triangle[i]), object_rays[i]);
+        const double t = h.t > ray.t_min && h.t < ray.t_max ? h.t : static_cast<double>(packet.t_max[i]);
+        hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i]};
+        ray.t_max = t;
+      }
+      for (uint32_t p : planes_) {
+        Hit h;
+        if (intersect_object(scene_, p, ray, h)) {
+          ray.t_max = h.t;
+          hits[i] = h;
+        }
+      }
+    }
   }
 
   bool occluded(const Ray& ray) const override { return first_blocker(ray).has_value(); }
@@ -180,8 +216,10 @@ class BvhAccelerator final : public Accelerator {
   }
 
  private:
+  static constexpr uint32_t kNone = ~0u;
   const Scene& scene_;
   std::vector<uint32_t> planes_;
+  uint32_t single_mesh_ = kNone;
   std::vector<MeshBvh> mesh_bvhs_;
   Bvh bvh_;
 };

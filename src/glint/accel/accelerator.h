@@ -40,6 +40,13 @@ class Accelerator {
   virtual ~Accelerator() = default;
   virtual std::optional<Hit> intersect(const Ray& ray) const = 0;
   virtual bool occluded(const Ray& ray) const = 0;
+  // Closest hits of up to kPacketSize rays at once (camera rays of
+  // neighbouring pixels): the same answers as intersect() ray by ray, which
+  // is what the default does. Our BVH traces a packet together when the
+  // scene is one mesh object (and planes).
+  virtual void intersect_packet(const Ray* rays, int count, std::optional<Hit>* hits) const {
+    for (int i = 0; i < count; ++i) hits[i] = intersect(rays[i]);
+  }
   // The object hit first by an any-hit query, for tools that name a blocker.
   virtual std::optional<uint32_t> first_blocker(const Ray& ray) const = 0;
   // Bytes held by the acceleration structure itself (not the scene).

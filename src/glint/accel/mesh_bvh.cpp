@@ -143,4 +143,162 @@ bool occluded_mesh_bvh(const MeshBvh& m, const Ray& ray) {
   });
 }
 
+RayPacket make_ray_packet(const Ray* rays, int count) {
+  RayPacket p;
+  p.count = count;
+  for (int i = 0; i < kPacketSize; ++i) {
+    const Ray& r = rays[i < count ? i : 0];  // unused lanes repeat ray 0
+    for (int a = 0; a < 3; ++a) {
+      p.origin[a][i] = static_cast<float>(r.origin[a]);
+      p.direction[a][i] = static_cast<float>(r.direction[a]);
+      p.inv_direction[a][i] = static_cast<float>(1.0 / r.direction[a]);
+    }
+    p.t_min[i] = static_cast<float>(r.t_min);
+    p.t_max[i] = clamp_to_float(r.t_max);
+    p.triangle[i] = kNoTriangle;
+  }
+  return p;
+}
+
+#if defined(__AVX__)
+
+namespace {
+
+int dominant_axis(float x, float y, float z) {
+  const float ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
+  return ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+}
+
+}  // namespace
+
+bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
+  if (m.bvh.nodes.empty()) return true;
+  // One shear frame and one set of direction signs for the whole packet.
+  const int kz = dominant_axis(p.direction[0][0], p.direction[1][0], p.direction[2][0]);
+  bool negative[3];
+  for (int a = 0; a < 3; ++a) negative[a] = std::signbit(p.inv_direction[a][0]);
+  for (int i = 1; i < kPacketSize; ++i) {
+    if (dominant_axis(p.direction[0][i], p.direction[1][i], p.direction[2][i]) != kz) return false;
+    for (int a = 0; a < 3; ++a)
+      if (std::signbit(p.inv_direction[a][i]) != negative[a]) return false;
+  }
+  const int kx = kz == 2 ? 0 : kz + 1;
+  const int ky = kx == 2 ? 0 : kx + 1;
+
+  // Per-lane constants, computed as the single-ray kernels compute them.
+  alignas(32) float sx[kPacketSize], sy[kPacketSize], sz[kPacketSize];
+  for (int i = 0; i < kPacketSize; ++i) {
+    sx[i] = -p.direction[kx][i] / p.direction[kz][i];
+    sy[i] = -p.direction[ky][i] / p.direction[kz][i];
+    sz[i] = 1.0f / p.direction[kz][i];
+  }
+  __m256 origin[3], inv_dir[3];
+  for (int a = 0; a < 3; ++a) {
+    origin[a] = _mm256_load_ps(p.origin[a]);
+    inv_dir[a] = _mm256_load_ps(p.inv_direction[a]);
+  }
+  const __m256 shear_x = _mm256_load_ps(sx), shear_y = _mm256_load_ps(sy), shear_z = _mm256_load_ps(sz);
+  // Boxes are entered from t_min scaled down a little (bvh.h), triangles from t_min.
+  const __m256 t_min = _mm256_load_ps(p.t_min);
+  const __m256 box_t_min =
+      _mm256_sub_ps(_mm256_mul_ps(t_min, _mm256_set1_ps(1.0f - 0x1p-20f)), _mm256_set1_ps(1e-30f));
+  __m256 t_max = _mm256_load_ps(p.t_max);
+  __m256i hit_triangle = _mm256_set1_epi32(static_cast<int>(kNoTriangle));
+  const int all = (1 << p.count) - 1;
+
+  struct Entry { uint32_t child, count; int mask; };
+  Entry stack[kTraversalStack];
+  int top = 0;
+  stack[top++] = {0, 0, all};
+  const __m256 widen = _mm256_set1_ps(1.0f + 4.0f * 0x1p-23f);
+  const __m256 zero = _mm256_setzero_ps();
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.count > 0) {
+      for (uint32_t b = e.child; b < e.child + e.count; ++b) {
+        const Triangle4& block = m.blocks[b];
+        for (int lane = 0; lane < 4; ++lane) {
+          // One triangle against every ray of the packet.
+          __m256 x[3], y[3], z[3];
+          for (int v = 0; v < 3; ++v) {
+            z[v] = _mm256_sub_ps(_mm256_set1_ps(block.v[v][kz][lane]), origin[kz]);
+            x[v] = _mm256_add_ps(_mm256_sub_ps(_mm256_set1_ps(block.v[v][kx][lane]), origin[kx]),
+                                 _mm256_mul_ps(shear_x, z[v]));
+            y[v] = _mm256_add_ps(_mm256_sub_ps(_mm256_set1_ps(block.v[v][ky][lane]), origin[ky]),
+                                 _mm256_mul_ps(shear_y, z[v]));
+          }
+          const __m256 e0 = _mm256_sub_ps(_mm256_mul_ps(x[1], y[2]), _mm256_mul_ps(y[1], x[2]));
+          const __m256 e1 = _mm256_sub_ps(_mm256_mul_ps(x[2], y[0]), _mm256_mul_ps(y[2], x[0]));
+          const __m256 e2 = _mm256_sub_ps(_mm256_mul_ps(x[0], y[1]), _mm256_mul_ps(y[0], x[1]));
+          const __m256 any_neg = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_LT_OQ),
+                                                           _mm256_cmp_ps(e1, zero, _CMP_LT_OQ)),
+                                              _mm256_cmp_ps(e2, zero, _CMP_LT_OQ));
+          const __m256 any_pos = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_GT_OQ),
+                                                           _mm256_cmp_ps(e1, zero, _CMP_GT_OQ)),
+                                              _mm256_cmp_ps(e2, zero, _CMP_GT_OQ));
+          const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
+          const __m256 t_scaled = _mm256_mul_ps(
+              _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])), _mm256_mul_ps(e2, z[2])),
+              shear_z);
+          const __m256 t = _mm256_div_ps(t_scaled, det);
+          __m256 valid = _mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
+          valid = _mm256_and_ps(valid, _mm256_and_ps(_mm256_cmp_ps(t, t_min, _CMP_GT_OQ),
+                                                     _mm256_cmp_ps(t, t_max, _CMP_LT_OQ)));
+          if (_mm256_movemask_ps(valid) & e.mask) {
+            valid = _mm256_and_ps(valid, _mm256_castsi256_ps(_mm256_set_epi32(
+                                             e.mask & 128 ? -1 : 0, e.mask & 64 ? -1 : 0, e.mask & 32 ? -1 : 0,
+                                             e.mask & 16 ? -1 : 0, e.mask & 8 ? -1 : 0, e.mask & 4 ? -1 : 0,
+                                             e.mask & 2 ? -1 : 0, e.mask & 1 ? -1 : 0)));
+            t_max = _mm256_blendv_ps(t_max, t, valid);
+            hit_triangle = _mm256_castps_si256(_mm256_blendv_ps(
+                _mm256_castsi256_ps(hit_triangle), _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(block.id[lane]))),
+                valid));
+          }
+        }
+      }
+      continue;
+    }
+    const BvhNode& n = m.bvh.nodes[e.child];
+    // Each child box against every ray; children are pushed far to near by
+    // the entry distance of the packet's first ray that hits them.
+    Entry hits[kBvhWidth];
+    float near[kBvhWidth];
+    int k = 0;
+    for (int c = 0; c < kBvhWidth; ++c) {
+      if (n.count[c] == 0 && n.child[c] == 0 && n.bounds[0][c] > n.bounds[1][c]) continue;  // empty slot
+      __m256 lo_t = box_t_min, hi_t = t_max;
+      for (int a = 0; a < 3; ++a) {
+        const __m256 near_plane = _mm256_set1_ps(n.bounds[2 * a + (negative[a] ? 1 : 0)][c]);
+        const __m256 far_plane = _mm256_set1_ps(n.bounds[2 * a + (negative[a] ? 0 : 1)][c]);
+        lo_t = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near_plane, origin[a]), inv_dir[a]), lo_t);
+        hi_t = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, origin[a]), inv_dir[a]), hi_t);
+      }
+      hi_t = _mm256_mul_ps(hi_t, widen);  // as hit_children does
+      const int mask = _mm256_movemask_ps(_mm256_cmp_ps(lo_t, hi_t, _CMP_LE_OQ)) & e.mask;
+      if (!mask) continue;
+      alignas(32) float lo[kPacketSize];
+      _mm256_store_ps(lo, lo_t);
+      const float d = lo[__builtin_ctz(mask)];
+      int j = k++;
+      while (j > 0 && near[j - 1] < d) {
+        hits[j] = hits[j - 1];
+        near[j] = near[j - 1];
+        --j;
+      }
+      hits[j] = {n.child[c], n.count[c], mask};
+      near[j] = d;
+    }
+    for (int i = 0; i < k; ++i) stack[top++] = hits[i];
+  }
+  _mm256_store_ps(p.t_max, t_max);
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(p.triangle), hit_triangle);
+  return true;
+}
+
+#else
+
+bool intersect_mesh_packet(const MeshBvh&, RayPacket&) { return false; }
+
+#endif
+
 }  // namespace glint

@@ -37,4 +37,25 @@ bool intersect_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray, uint32_t& trian
 // Whether any triangle is hit in (ray.t_min, ray.t_max).
 bool occluded_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray);
 
+// Packets: up to kPacketSize coherent rays (camera rays of neighbouring
+// pixels) traced together, one SIMD lane per ray, through the same nodes.
+// Each box and each triangle is loaded once for the whole packet. The
+// arithmetic per ray is that of intersect_mesh_bvh, so the hits are the same
+// (up to which of two triangles at equal float distance wins).
+inline constexpr int kPacketSize = 8;
+struct alignas(32) RayPacket {
+  float origin[3][kPacketSize], direction[3][kPacketSize];
+  float inv_direction[3][kPacketSize];  // from the double direction, as RaySlabs has it
+  float t_min[kPacketSize], t_max[kPacketSize];  // t_max shrinks to each hit
+  uint32_t triangle[kPacketSize];               // out: the hit, or kNoTriangle
+  int count = 0;                                // rays in use
+};
+inline constexpr uint32_t kNoTriangle = ~0u;
+
+RayPacket make_ray_packet(const Ray* rays, int count);
+// False (and nothing traced) when the rays are not coherent enough for the
+// packet kernel (directions of different signs or dominant axes) or the
+// build has no packet kernel (no AVX): trace them one by one then.
+bool intersect_mesh_packet(const MeshBvh& mesh_bvh, RayPacket& packet);
+
 }  // namespace glint
