@@ -15,6 +15,7 @@
 
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
+#include "glint/io/mesh_file.h"
 #include "glint/io/scene_loader.h"
 #include "glint/io/texture_file.h"
 #include "glint/render/explain.h"
@@ -362,6 +363,24 @@ TEST(TextureUV, PlyUV) {
   const UV uv = surface_uv(scene, hit, {});
   EXPECT_NEAR(uv.u, 0.5, 1e-6);
   EXPECT_NEAR(uv.v, 0.5, 1e-6);
+}
+
+TEST(TextureUV, GltfTexcoordsAndBaseColorTexture) {
+  // glTF puts uv (0, 0) at the image's top left; glint's v grows upward, so
+  // the file's (0,0), (1,0), (0,1) read as (0,1), (1,1), (0,0).
+  const fs::path file = fs::path(GLINT_SOURCE_DIR) / "tests" / "meshes" / "textured.gltf";
+  const MeshFile mesh = load_mesh_file(file);
+  ASSERT_EQ(mesh.corner_uvs.size(), 3u);
+  const float want[3][2] = {{0, 1}, {1, 1}, {0, 0}};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(mesh.corner_uvs[k].u, want[k][0], 1e-6) << k;
+    EXPECT_NEAR(mesh.corner_uvs[k].v, want[k][1], 1e-6) << k;
+  }
+  ASSERT_EQ(mesh.textures.size(), 1u);
+  EXPECT_EQ(mesh.textures[0].file.filename(), "textured.png");
+  EXPECT_EQ(mesh.textures[0].wrap, TextureWrap::mirror);
+  ASSERT_EQ(mesh.materials.size(), 1u);
+  EXPECT_EQ(mesh.materials[0].diffuse_texture, 0u);
 }
 
 // --- MTL maps ---------------------------------------------------------------
