@@ -135,6 +135,7 @@ TEST(TextureFile, Errors) {
   }
   const fs::path other = dir.write("t.gif89", "GIF89a");
   EXPECT_THROW(load_texture_image(other), Error);
+  EXPECT_THROW(load_texture_image("/dev/zero"), Error);  // endless: refused, not read
 }
 
 // --- lookups -----------------------------------------------------------------

@@ -96,6 +96,8 @@ TextureImage load_texture_image(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) fail(path, "file not found");
     if (fs::is_directory(path, ec)) fail(path, "is a directory");
+    // Not a device or a pipe: those could be endless (/dev/zero).
+    if (!fs::is_regular_file(path, ec)) fail(path, "not a regular file");
     TextureImage out;
     if (ext == ".exr" || ext == ".pfm") {
       try {
