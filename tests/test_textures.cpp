@@ -3,6 +3,7 @@
 // UVs and MTL maps, the loader's texture keys and errors, explain, and a
 // rendered pixel equal to the shading formula with the texture's value.
 #include <gtest/gtest.h>
+#include <png.h>
 #include <stb_image_write.h>
 #include <unistd.h>
 
@@ -96,6 +97,29 @@ TEST(TextureFile, EightBitPngIsSrgbDecodedToLinear) {
   }
   // Not the identity: byte 128 is about 0.216 in linear light.
   EXPECT_NEAR(image.texels[0].z, 0.2158605, 1e-6);
+}
+
+TEST(TextureFile, SixteenBitPngIsSrgbDecodedToLinear) {
+  TempDir dir;
+  const uint16_t values[6] = {0, 1000, 32768, 50000, 65535, 12345};
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = 2;
+  image.height = 1;
+  image.format = PNG_FORMAT_LINEAR_RGB;  // 16 bits a channel, stored as given
+  const fs::path p = dir.path() / "t16.png";
+  ASSERT_NE(png_image_write_to_file(&image, p.c_str(), 0, values, 0, nullptr), 0) << image.message;
+  const TextureImage t = load_texture_image(p);
+  ASSERT_EQ(t.texels.size(), 2u);
+  auto decode = [](uint16_t x) {
+    const double c = x / 65535.0;
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  };
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(t.texels[i].x, decode(values[3 * i]), kTol) << i;
+    EXPECT_NEAR(t.texels[i].y, decode(values[3 * i + 1]), kTol) << i;
+    EXPECT_NEAR(t.texels[i].z, decode(values[3 * i + 2]), kTol) << i;
+  }
 }
 
 TEST(TextureFile, RadianceHdrIsLinear) {
