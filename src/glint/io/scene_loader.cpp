@@ -385,16 +385,17 @@ class SceneReader {
   uint32_t read_texture(const Value& v, const Path& path) {
     const auto image = v.find("texture");
     const auto checker = v.find("checker");
+    // An error at `key` of this object (the key, not its value, is what is misplaced).
+    auto fail_at_key = [&](std::string_view key, const std::string& what) {
+      for (size_t k = 0; k < v.size(); ++k)
+        if (v.key(k) == key) throw Error(v.key_location(k), join(path, key).str() + ": " + what);
+    };
     Texture t;
-    for (size_t k = 0; k < v.size() && image && checker; ++k)
-      if (v.key(k) == "checker")
-        throw Error(v.key_location(k), join(path, "checker").str() + ": give either \"texture\" or \"checker\", not both");
+    if (image && checker) fail_at_key("checker", "give either \"texture\" or \"checker\", not both");
     if (checker) {
       // The checker's options live in its own object; say so for the usual slip.
-      for (size_t k = 0; k < v.size(); ++k)
-        if (v.key(k) == "scale" || v.key(k) == "offset")
-          throw Error(v.key_location(k), join(path, v.key(k)).str() + ": put \"" + std::string(v.key(k)) +
-                                             "\" inside \"checker\"");
+      for (const char* key : {"scale", "offset"})
+        if (v.find(key)) fail_at_key(key, std::string("put \"") + key + "\" inside \"checker\"");
       check_keys(v, path, {"checker"});
       const Path p = join(path, "checker");
       expect_object(*checker, p);
