@@ -185,6 +185,13 @@ std::string human_bytes(double bytes) {
   return buf;
 }
 
+double texture_bytes(const glint::Scene& scene) {
+  double bytes = static_cast<double>(scene.textures.capacity() * sizeof(glint::Texture));
+  for (const glint::TextureImage& image : scene.texture_images)
+    bytes += static_cast<double>(image.texels.capacity() * sizeof(glint::Vec3f));
+  return bytes;
+}
+
 // What the scene holds and what rendering it will take in memory.
 int run_info(const std::string& scene_path) {
   using namespace glint;
@@ -202,7 +209,8 @@ int run_info(const std::string& scene_path) {
   const double scene_bytes = scene.objects.capacity() * sizeof(Object) + scene.spheres.capacity() * sizeof(Sphere) +
                              scene.planes.capacity() * sizeof(Plane) + scene.triangles.capacity() * sizeof(Triangle) +
                              scene.boxes.capacity() * sizeof(Box) + scene.transforms.capacity() * sizeof(Transform) +
-                             scene.materials.capacity() * sizeof(Material) + scene.lights.capacity() * sizeof(Light);
+                             scene.materials.capacity() * sizeof(Material) + scene.lights.capacity() * sizeof(Light) +
+                             texture_bytes(scene);
   const double image_bytes = 12.0 * r.width * r.height;
   std::printf("scene      %s\n", scene_path.c_str());
   std::printf("image      %dx%d, %d spp, max depth %d, %s\n", r.width, r.height, r.samples_per_pixel, r.max_depth,
@@ -212,6 +220,8 @@ int run_info(const std::string& scene_path) {
   std::printf("lights     %zu: %zu ambient, %zu point, %zu directional, %zu spot, %zu area\n", scene.lights.size(),
               lights_by_type[0], lights_by_type[1], lights_by_type[2], lights_by_type[3], lights_by_type[4]);
   std::printf("materials  %zu (and the default)\n", scene.materials.size() - 1);
+  if (!scene.textures.empty())
+    std::printf("textures   %zu, %zu image files\n", scene.textures.size(), scene.texture_images.size());
   if (!bounds.empty())
     std::printf("bounds     (%g, %g, %g) to (%g, %g, %g), planes excluded\n", bounds.lo.x, bounds.lo.y, bounds.lo.z,
                 bounds.hi.x, bounds.hi.y, bounds.hi.z);

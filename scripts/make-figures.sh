@@ -31,4 +31,5 @@ python3 scripts/montage.py "$OUT/mirrors.png" "$TMP"/mirrors-{1,2,5}.ppm
 render scenes/figures/refraction.json -o "$OUT/refraction.png"
 render scenes/showcase.json -o "$OUT/showcase.png"
 render scenes/meshes/bunny.json -o "$OUT/bunny.png"
+render scenes/textures/textures.json -o "$OUT/textures.png"
 echo "figures written to $OUT/"

@@ -189,8 +189,11 @@ struct RawMesh {
   std::vector<uint32_t> indices;        // 3 per triangle
   std::vector<Vec3f> normals;           // 3 per triangle when has_normals; (0,0,0): none for that corner
   bool has_normals = false;
+  std::vector<UVf> uvs;                 // 3 per triangle when has_uvs; (0,0) for a corner without one
+  bool has_uvs = false;
   std::vector<int32_t> triangle_material;  // per triangle
   std::vector<Material> materials;
+  std::vector<MeshTexture> textures;
   std::vector<std::string> warnings;
   std::vector<BadVertexText> bad_vertex_text;
   // The error for a used vertex that is NaN/Inf in memory (file:line where known).
@@ -361,6 +364,7 @@ MeshFile finish(RawMesh raw, const std::string& file) {
         n = len > 0 && std::isfinite(len) ? Vec3d{n.x / len, n.y / len, n.z / len} : face_normal[t];
       }
       out.corner_normals.push_back({static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)});
+      if (raw.has_uvs) out.corner_uvs.push_back(raw.uvs[3 * t + k]);
     }
     out.triangle_material.push_back(t < raw.triangle_material.size() ? raw.triangle_material[t] : -1);
   }
@@ -382,6 +386,7 @@ MeshFile finish(RawMesh raw, const std::string& file) {
   if (raw.small_faces > 0)
     raw.warnings.push_back(file + ": skipped " + plural(raw.small_faces, "face", "faces") +
                            " with fewer than 3 vertices");
+  out.textures = std::move(raw.textures);
   out.warnings = std::move(raw.warnings);
   return out;
 }
@@ -751,6 +756,7 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
   for (size_t v = 0; v < raw.positions.size(); ++v)
     raw.positions[v] = {attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]};
   const size_t normal_count = attrib.normals.size() / 3;
+  const size_t texcoord_count = attrib.texcoords.size() / 2;
   raw.bad_vertex_text = scan_obj_nonfinite_text(text);
   raw.nonfinite_vertex_error = [&](uint32_t v) {
     return Error(SourceLocation{file, find_obj_statement(text, "v", v), 0},
@@ -796,9 +802,10 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
       offset += n;
       bool corners_ok = true;
       for (size_t k = 0; k < n; ++k) {
-        const int vi = corner[k].vertex_index, ni = corner[k].normal_index;
+        const int vi = corner[k].vertex_index, ni = corner[k].normal_index, ti = corner[k].texcoord_index;
         if (vi < 0 || static_cast<size_t>(vi) >= raw.positions.size()) corners_ok = false;
         if (ni < -1 || (ni >= 0 && static_cast<size_t>(ni) >= normal_count)) corners_ok = false;
+        if (ti < -1 || (ti >= 0 && static_cast<size_t>(ti) >= texcoord_count)) corners_ok = false;
       }
       if (!corners_ok) {
         bad_index = true;
@@ -815,6 +822,9 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
                                                     attrib.normals[3 * ni + 2]}
                                             : Vec3f{});
               if (ni >= 0) raw.has_normals = true;
+              const int ti = corner[k].texcoord_index;
+              raw.uvs.push_back(ti >= 0 ? UVf{attrib.texcoords[2 * ti], attrib.texcoords[2 * ti + 1]} : UVf{});
+              if (ti >= 0) raw.has_uvs = true;
             }
             raw.triangle_material.push_back(material >= 0 && static_cast<size_t>(material) < materials.size()
                                                 ? material
@@ -830,6 +840,7 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
     fail(file, "face index out of range");
   }
   if (!raw.has_normals) raw.normals.clear();
+  if (!raw.has_uvs) raw.uvs.clear();
   raw.small_faces = count_occurrences(warn, "Degenerated face found");
   if (raw.positions.empty() && raw.indices.empty() && raw.non_faces == 0)
     fail(file, "no vertices or faces: not a Wavefront OBJ file");
@@ -860,6 +871,33 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
     if (known) block = mtl_reader.origin[i].block;
     raw.materials.push_back(map_mtl(materials[i], block, report));
     const auto& t = materials[i];
+    // map_Ka / map_Kd / map_Ks that exist become the material's textures (the
+    // missing ones are reported below and the colors stay).
+    const std::pair<const tinyobj::texture_option_t*, uint32_t*> maps[] = {
+        {&t.ambient_texopt, &raw.materials.back().ambient_texture},
+        {&t.diffuse_texopt, &raw.materials.back().diffuse_texture},
+        {&t.specular_texopt, &raw.materials.back().specular_texture}};
+    const std::string* map_names[] = {&t.ambient_texname, &t.diffuse_texname, &t.specular_texname};
+    for (size_t k = 0; k < 3; ++k) {
+      if (map_names[k]->empty()) continue;
+      std::string relative = *map_names[k];
+      std::replace(relative.begin(), relative.end(), '\\', '/');
+      std::error_code ec;
+      const fs::path texture_file = mtl.parent_path() / relative;
+      if (!fs::is_regular_file(texture_file, ec)) continue;
+      const tinyobj::texture_option_t& o = *maps[k].first;
+      MeshTexture mt;
+      mt.file = texture_file;
+      mt.name = *map_names[k];
+      mt.named_by = mtl.string();
+      mt.wrap = o.clamp ? TextureWrap::clamp : TextureWrap::repeat;
+      mt.scale_u = o.scale[0];
+      mt.scale_v = o.scale[1];
+      mt.offset_u = o.origin_offset[0];
+      mt.offset_v = o.origin_offset[1];
+      *maps[k].second = static_cast<uint32_t>(raw.textures.size());
+      raw.textures.push_back(std::move(mt));
+    }
     for (const std::string* tex :
          {&t.ambient_texname, &t.diffuse_texname, &t.specular_texname, &t.specular_highlight_texname,
           &t.bump_texname, &t.displacement_texname, &t.alpha_texname, &t.reflection_texname,
@@ -1280,6 +1318,27 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
       if (!missing.empty())
         raw.warnings.push_back(file + ": " + plural(missing.size(), "texture file", "texture files") +
                                " not found (defaults used): " + name_list(missing));
+      // The base color texture, when it is a file beside the mesh, becomes the diffuse texture.
+      for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
+        aiString tex;
+        aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+        if (a->GetTextureCount(type) == 0 || a->GetTexture(type, 0, &tex) != AI_SUCCESS) continue;
+        const std::string t = tex.C_Str();
+        std::error_code ec;
+        if (t.empty() || t[0] == '*' || t.rfind("data:", 0) == 0 || !fs::is_regular_file(folder / t, ec)) break;
+        a->Get(AI_MATKEY_MAPPINGMODE_U(type, 0), mode[0]);
+        MeshTexture mt;
+        mt.file = folder / t;
+        mt.name = t;
+        mt.named_by = file;
+        // One wrap mode for both directions: u's (glTF samplers rarely differ).
+        mt.wrap = mode[0] == aiTextureMapMode_Clamp    ? TextureWrap::clamp
+                  : mode[0] == aiTextureMapMode_Mirror ? TextureWrap::mirror
+                                                       : TextureWrap::repeat;
+        raw.materials.back().diffuse_texture = static_cast<uint32_t>(raw.textures.size());
+        raw.textures.push_back(std::move(mt));
+        break;
+      }
     }
   }
 
@@ -1303,6 +1362,7 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
       raw.positions.push_back({p.x, p.y, p.z});
     }
     const bool normals = mesh.mNormals != nullptr;
+    const aiVector3D* uvs = mesh.HasTextureCoords(0) ? mesh.mTextureCoords[0] : nullptr;
     const int32_t material =
         use_materials && mesh.mMaterialIndex < raw.materials.size() ? static_cast<int32_t>(mesh.mMaterialIndex) : -1;
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
@@ -1329,13 +1389,16 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
               } else {
                 raw.normals.push_back({});
               }
+              raw.uvs.push_back(uvs ? UVf{uvs[v].x, uvs[v].y} : UVf{});
             }
             raw.triangle_material.push_back(material);
           });
       if (normals) raw.has_normals = true;
+      if (uvs) raw.has_uvs = true;
     }
   }
   if (!raw.has_normals) raw.normals.clear();
+  if (!raw.has_uvs) raw.uvs.clear();
   raw.nonfinite_vertex_error = [file, ranges, &scene](uint32_t v) {
     auto it = std::upper_bound(ranges.begin(), ranges.end(), size_t(v),
                                [](size_t x, const Range& r) { return x < r.first; });

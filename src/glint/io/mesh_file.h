@@ -15,12 +15,25 @@
 
 namespace glint {
 
+// A texture one of the file's materials names (MTL map_Ka / map_Kd / map_Ks,
+// a glTF base color texture) and that exists; the scene loader reads it.
+struct MeshTexture {
+  std::filesystem::path file;  // resolved against the file that names it
+  std::string name;            // as written there
+  std::string named_by;        // that file (the .mtl or the mesh), for warnings
+  TextureWrap wrap = TextureWrap::repeat;
+  double scale_u = 1, scale_v = 1, offset_u = 0, offset_v = 0;
+};
+
 struct MeshFile {
   std::vector<Vec3f> positions;
   std::vector<uint32_t> indices;          // 3 per triangle, into positions
   std::vector<Vec3f> corner_normals;      // 3 per triangle, unit: from the file, or computed
   std::vector<int32_t> triangle_material; // per triangle: index into `materials`, or -1 for none
-  std::vector<Material> materials;        // from the .mtl (contract defaults for keys it leaves out)
+  std::vector<UVf> corner_uvs;            // 3 per triangle, or empty when the file has no UVs
+  std::vector<Material> materials;        // from the .mtl (contract defaults for keys it leaves out);
+                                          // their *_texture fields index `textures`
+  std::vector<MeshTexture> textures;
   std::vector<std::string> warnings;      // one line each, e.g. "mesh.obj: dropped 3 degenerate triangles"
 
   size_t triangle_count() const { return indices.size() / 3; }

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -16,6 +17,7 @@
 
 #include "glint/io/json.h"
 #include "glint/io/mesh_file.h"
+#include "glint/io/texture_file.h"
 
 namespace glint {
 
@@ -333,15 +335,119 @@ class SceneReader {
     check_keys(v, path, {"ambient", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior", "fresnel"});
     Material mat;
     mat.name = name;
-    if (auto x = v.find("ambient")) mat.ambient = color(*x, join(path, "ambient"));
-    if (auto x = v.find("diffuse")) mat.diffuse = color(*x, join(path, "diffuse"));
-    if (auto x = v.find("specular")) mat.specular = color(*x, join(path, "specular"));
+    if (auto x = v.find("ambient")) reflectance(*x, join(path, "ambient"), mat.ambient, mat.ambient_texture);
+    if (auto x = v.find("diffuse")) reflectance(*x, join(path, "diffuse"), mat.diffuse, mat.diffuse_texture);
+    if (auto x = v.find("specular")) reflectance(*x, join(path, "specular"), mat.specular, mat.specular_texture);
     if (auto x = v.find("shininess")) mat.shininess = positive(*x, join(path, "shininess"));
     if (auto x = v.find("reflectivity")) mat.reflectivity = color(*x, join(path, "reflectivity"));
     if (auto x = v.find("transparency")) mat.transparency = non_negative(*x, join(path, "transparency"));
     if (auto x = v.find("ior")) mat.ior = positive(*x, join(path, "ior"));
     if (auto x = v.find("fresnel")) mat.fresnel = boolean(*x, join(path, "fresnel"));
     material_index_[name] = add_material(scene_, std::move(mat));
+  }
+
+  // A reflectance is a color or a texture object (docs/scene-format.md, "Textures").
+  void reflectance(const Value& v, const Path& path, Color& c, uint32_t& texture) {
+    if (v.is_object()) {
+      texture = read_texture(v, path);
+      return;
+    }
+    if (v.is_string())
+      fail(v, path, "expected a color ([r, g, b] or a number) or a texture object, got a string (an image is "
+                    "written {\"texture\": " + quote_text(v.as_string()) + "})");
+    c = color(v, path);
+  }
+
+  // [a, b] of finite numbers.
+  std::array<double, 2> pair(const Value& v, const Path& path) const {
+    if (!v.is_array() || v.size() != 2)
+      fail(v, path, std::string("expected [u, v], got ") +
+                        (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
+    return {number(v[0], index(path, 0)), number(v[1], index(path, 1))};
+  }
+
+  // `scale` (a number or [su, sv], non-zero) and `offset` ([ou, ov]) of a texture's uv.
+  void read_uv_transform(const Value& v, const Path& path, Texture& t) const {
+    if (auto x = v.find("scale")) {
+      const Path p = join(path, "scale");
+      const std::array<double, 2> s = x->is_number() ? std::array<double, 2>{number(*x, p), number(*x, p)} : pair(*x, p);
+      if (s[0] == 0 || s[1] == 0) fail(*x, p, "must not be zero");
+      t.scale_u = s[0];
+      t.scale_v = s[1];
+    }
+    if (auto x = v.find("offset")) {
+      const std::array<double, 2> o = pair(*x, join(path, "offset"));
+      t.offset_u = o[0];
+      t.offset_v = o[1];
+    }
+  }
+
+  uint32_t read_texture(const Value& v, const Path& path) {
+    const auto image = v.find("texture");
+    const auto checker = v.find("checker");
+    // An error at `key` of this object (the key, not its value, is what is misplaced).
+    auto fail_at_key = [&](std::string_view key, const std::string& what) {
+      for (size_t k = 0; k < v.size(); ++k)
+        if (v.key(k) == key) throw Error(v.key_location(k), join(path, key).str() + ": " + what);
+    };
+    Texture t;
+    if (image && checker) fail_at_key("checker", "give either \"texture\" or \"checker\", not both");
+    if (checker) {
+      // The checker's options live in its own object; say so for the usual slip.
+      for (const char* key : {"scale", "offset"})
+        if (v.find(key)) fail_at_key(key, std::string("put \"") + key + "\" inside \"checker\"");
+      check_keys(v, path, {"checker"});
+      const Path p = join(path, "checker");
+      expect_object(*checker, p);
+      check_keys(*checker, p, {"even", "odd", "scale", "offset"});
+      t.kind = TextureKind::checker;
+      t.even = color(require(*checker, p, "even"), join(p, "even"));
+      t.odd = color(require(*checker, p, "odd"), join(p, "odd"));
+      read_uv_transform(*checker, p, t);
+    } else {
+      check_keys(v, path, {"texture", "wrap", "scale", "offset", "checker"});
+      if (!image) fail(v, path, "a texture object needs \"texture\" (an image file) or \"checker\"");
+      if (auto x = v.find("wrap")) {
+        static constexpr TextureWrap kWraps[] = {TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror};
+        t.wrap = kWraps[choice(*x, join(path, "wrap"), {"repeat", "clamp", "mirror"}, "wrap mode")];
+      }
+      read_uv_transform(v, path, t);
+      t.image = load_texture(*image, join(path, "texture"));
+    }
+    scene_.textures.push_back(t);
+    return static_cast<uint32_t>(scene_.textures.size() - 1);
+  }
+
+  // The key that identifies a file however it is written (textures and meshes are read once).
+  static std::string file_key(const std::filesystem::path& file) {
+    std::error_code ec;
+    const std::filesystem::path key = std::filesystem::weakly_canonical(file, ec);
+    return ec ? file.string() : key.string();
+  }
+
+  // Each image file is read once, however many textures use it. Throws
+  // glint::Error naming the file for a missing or unreadable one.
+  uint32_t texture_image(const std::filesystem::path& file) {
+    const std::string key = file_key(file);
+    if (auto it = texture_image_index_.find(key); it != texture_image_index_.end()) return it->second;
+    scene_.texture_images.push_back(load_texture_image(file));
+    const auto index = static_cast<uint32_t>(scene_.texture_images.size() - 1);
+    texture_image_index_[key] = index;
+    return index;
+  }
+
+  uint32_t load_texture(const Value& v, const Path& path) {
+    const std::string name = string(v, path);
+    if (name.empty()) fail(v, path, "must name a texture file");
+    std::filesystem::path file(name);
+    if (file.is_relative()) file = base_dir_ / file;
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) fail(v, path, "texture file " + quote_text(file.string()) + " not found");
+    try {
+      return texture_image(file);
+    } catch (const Error& e) {
+      fail(v, path, "texture file " + quote_text(file.string()) + ": " + e.message());
+    }
   }
 
   void read_lights(const Value& list) {
@@ -480,20 +586,46 @@ class SceneReader {
     std::filesystem::path file(name);
     if (file.is_relative()) file = base_dir_ / file;
     std::error_code ec;
-    const std::filesystem::path key = std::filesystem::weakly_canonical(file, ec);
-    const std::string cache_key = ec ? file.string() : key.string();
+    const std::string cache_key = file_key(file);
     if (auto it = mesh_index_.find(cache_key); it != mesh_index_.end()) return it->second;
     if (!std::filesystem::exists(file, ec)) fail(v, path, "mesh file " + quote_text(file.string()) + " not found");
     MeshFile loaded = load_mesh_file(file);
     for (std::string& w : loaded.warnings) scene_.warnings.push_back(std::move(w));
+    // The file's textures join the scene's; one that cannot be read is a
+    // warning and its material keeps its color (the contract: defaults used).
+    std::vector<uint32_t> texture_of(loaded.textures.size(), kNoTexture);
+    for (size_t i = 0; i < loaded.textures.size(); ++i) {
+      const MeshTexture& mt = loaded.textures[i];
+      try {
+        Texture t;
+        t.image = texture_image(mt.file);
+        t.wrap = mt.wrap;
+        t.scale_u = mt.scale_u;
+        t.scale_v = mt.scale_v;
+        t.offset_u = mt.offset_u;
+        t.offset_v = mt.offset_v;
+        scene_.textures.push_back(t);
+        texture_of[i] = static_cast<uint32_t>(scene_.textures.size() - 1);
+      } catch (const Error& e) {
+        scene_.warnings.push_back(mt.named_by + ": texture '" + mt.name + "' not used (defaults used): " + e.what());
+      }
+    }
+    auto remap_texture = [&](uint32_t& t) { t = t < texture_of.size() ? texture_of[t] : kNoTexture; };
     // The file's materials join the scene's; triangles without one use the default.
     std::vector<uint32_t> material_of(loaded.materials.size());
-    for (size_t i = 0; i < loaded.materials.size(); ++i) material_of[i] = add_material(scene_, loaded.materials[i]);
+    for (size_t i = 0; i < loaded.materials.size(); ++i) {
+      Material m = loaded.materials[i];
+      remap_texture(m.ambient_texture);
+      remap_texture(m.diffuse_texture);
+      remap_texture(m.specular_texture);
+      material_of[i] = add_material(scene_, std::move(m));
+    }
     Mesh mesh;
     mesh.file = file.string();
     mesh.positions = std::move(loaded.positions);
     mesh.indices = std::move(loaded.indices);
     mesh.corner_normals = std::move(loaded.corner_normals);
+    mesh.corner_uvs = std::move(loaded.corner_uvs);
     mesh.triangle_material.resize(mesh.triangle_count(), 0);
     for (size_t t = 0; t < loaded.triangle_material.size() && t < mesh.triangle_count(); ++t) {
       const int32_t m = loaded.triangle_material[t];
@@ -526,7 +658,7 @@ class SceneReader {
     switch (type) {
       case 0: allowed.insert(allowed.end(), {"center", "radius"}); break;
       case 1: allowed.insert(allowed.end(), {"point", "normal"}); break;
-      case 2: allowed.push_back("vertices"); break;
+      case 2: allowed.insert(allowed.end(), {"vertices", "uv"}); break;
       case 3: allowed.insert(allowed.end(), {"min", "max"}); break;
       case 4: allowed.insert(allowed.end(), {"file", "smooth"}); break;
     }
@@ -561,6 +693,16 @@ class SceneReader {
         object = add_triangle(scene_, t, material, transform);
         const Triangle& w = scene_.triangles.back();
         if (!(length(cross(w.v1 - w.v0, w.v2 - w.v0)) > 0)) fail(verts, p, "degenerate triangle after its transform");
+        if (auto uv = v.find("uv")) {
+          const Path up = join(path, "uv");
+          if (!uv->is_array() || uv->size() != 3) fail(*uv, up, "expected three [u, v] pairs, one per vertex");
+          std::array<UV, 3> uvs;
+          for (size_t k = 0; k < 3; ++k) {
+            const std::array<double, 2> c = pair((*uv)[k], index(up, k));
+            uvs[k] = {c[0], c[1]};
+          }
+          scene_.triangle_uvs[scene_.objects[object].shape] = uvs;
+        }
         break;
       }
       case 3: {
@@ -589,6 +731,7 @@ class SceneReader {
   std::filesystem::path base_dir_;
   std::vector<Error>* errors_ = nullptr;
   std::map<std::string, uint32_t> mesh_index_;  // canonical path -> Scene::meshes
+  std::map<std::string, uint32_t> texture_image_index_;  // canonical path -> Scene::texture_images
   Scene scene_;
   std::map<std::string, uint32_t, std::less<>> material_index_;
 };

@@ -54,6 +54,27 @@ Json object_name(const Scene& scene, uint32_t object) {
   return it == scene.object_names.end() ? Json(nullptr) : Json(it->second);
 }
 
+// The textured reflectances of a material: (slot name, texture index, value at the hit).
+struct TextureLookup {
+  const char* slot;
+  uint32_t texture;
+  Color value;
+};
+std::vector<TextureLookup> texture_lookups(const Scene& scene, const SurfacePoint& sp) {
+  std::vector<TextureLookup> out;
+  if (!sp.textured) return out;
+  const Material& m = scene.materials[sp.material];
+  if (m.ambient_texture != kNoTexture) out.push_back({"ambient", m.ambient_texture, sp.reflectance.ambient});
+  if (m.diffuse_texture != kNoTexture) out.push_back({"diffuse", m.diffuse_texture, sp.reflectance.diffuse});
+  if (m.specular_texture != kNoTexture) out.push_back({"specular", m.specular_texture, sp.reflectance.specular});
+  return out;
+}
+
+std::string texture_source(const Scene& scene, uint32_t texture) {
+  const Texture& t = scene.textures[texture];
+  return t.kind == TextureKind::checker ? std::string("checker") : scene.texture_images[t.image].file;
+}
+
 Json node_json(const Scene& scene, const RayTrace& t) {
   Json node;
   node["origin"] = vec(t.ray.origin);
@@ -69,6 +90,13 @@ Json node_json(const Scene& scene, const RayTrace& t) {
     hit["point"] = vec(t.surface.p);
     hit["normal"] = vec(t.normal);
     hit["material"] = scene.materials[t.surface.material].name;
+    if (t.surface.textured) {
+      hit["uv"] = Json::array({t.surface.uv.u, t.surface.uv.v});
+      Json textures = Json::array();
+      for (const TextureLookup& l : texture_lookups(scene, t.surface))
+        textures.push_back({{"reflectance", l.slot}, {"texture", texture_source(scene, l.texture)}, {"value", vec(l.value)}});
+      hit["textures"] = std::move(textures);
+    }
     Json lights = Json::array();
     for (const LightTrace& lt : t.lights) {
       const Light& light = scene.lights[lt.index];
@@ -132,6 +160,9 @@ void node_text(const Scene& scene, const RayTrace& t, const std::string& indent,
   const Material& m = scene.materials[t.surface.material];
   out += indent + "  hits " + object_label(scene, t.hit->object) + " at t = " + fmt(t.hit->t) + ", point " +
          fmt(t.surface.p) + ", normal " + fmt(t.normal) + ", material \"" + m.name + "\"\n";
+  for (const TextureLookup& l : texture_lookups(scene, t.surface))
+    out += indent + "  texture " + l.slot + " at uv (" + fmt(t.surface.uv.u) + ", " + fmt(t.surface.uv.v) +
+           "): " + fmt(l.value) + " from " + texture_source(scene, l.texture) + "\n";
   const bool phong = scene.render.shading_model == ShadingModel::phong;
   for (const LightTrace& lt : t.lights) {
     const Light& light = scene.lights[lt.index];

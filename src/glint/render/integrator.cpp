@@ -4,10 +4,14 @@
 #include <numbers>
 
 #include "glint/geometry/shapes.h"
+#include "glint/render/texture.h"
 
 namespace glint {
 
-SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
+namespace {
+
+// Where the hit is and which way the surface faces there.
+SurfacePoint evaluate_geometry(const Scene& scene, const Ray& ray, const Hit& hit) {
   const Object& object = scene.objects[hit.object];
   SurfacePoint sp;
   sp.material = object.material;
@@ -87,6 +91,25 @@ SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
     }
   }
   sp.shading_normal = sp.geometric_normal;
+  return sp;
+}
+
+}  // namespace
+
+SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
+  SurfacePoint sp = evaluate_geometry(scene, ray, hit);
+  const Material& m = scene.materials[sp.material];
+  sp.reflectance = {m.ambient, m.diffuse, m.specular};
+  if (m.textured()) {  // plain colors never get here: no uv, no lookups
+    sp.textured = true;
+    sp.uv = surface_uv(scene, hit, sp.p);
+    if (m.ambient_texture != kNoTexture)
+      sp.reflectance.ambient = evaluate_texture(scene, scene.textures[m.ambient_texture], sp.uv);
+    if (m.diffuse_texture != kNoTexture)
+      sp.reflectance.diffuse = evaluate_texture(scene, scene.textures[m.diffuse_texture], sp.uv);
+    if (m.specular_texture != kNoTexture)
+      sp.reflectance.specular = evaluate_texture(scene, scene.textures[m.specular_texture], sp.uv);
+  }
   return sp;
 }
 
@@ -181,7 +204,7 @@ void Integrator::add_light_sample(const Light& light, double cos_cutoff, const V
   }
 
   const Material& m = scene_.materials[sp.material];
-  out.diffuse += (scale * n_dot_l) * (m.diffuse * light.diffuse);
+  out.diffuse += (scale * n_dot_l) * (sp.reflectance.diffuse * light.diffuse);
   double cos_spec = 0.0;  // r.v or n.h, before clamping
   if (scene_.render.shading_model == ShadingModel::phong) {
     const Vec3 r = 2.0 * n_dot_l * n - l;
@@ -192,8 +215,8 @@ void Integrator::add_light_sample(const Light& light, double cos_cutoff, const V
     if (len > 0.0) cos_spec = dot(n, half / len);
   }
   const double s = std::max(0.0, cos_spec);
-  if (s > 0.0 && !is_black(m.specular * light.specular))
-    out.specular += (scale * shininess_pow(s, m.shininess)) * (m.specular * light.specular);
+  if (s > 0.0 && !is_black(sp.reflectance.specular * light.specular))
+    out.specular += (scale * shininess_pow(s, m.shininess)) * (sp.reflectance.specular * light.specular);
   if (trace) {
     trace->lit_samples++;
     if (!trace->specular_cos) trace->specular_cos = cos_spec;
@@ -220,7 +243,7 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, 
   }
   ShadeTerms out;
   if (m.unlit) {  // MTL illum 0: the color is Kd, no lights, no shadows, no rays
-    out.ambient = m.diffuse;
+    out.ambient = sp.reflectance.diffuse;
     return out;
   }
 
@@ -235,7 +258,7 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, 
       light_trace = &trace->lights.back();
       light_trace->index = li;
     }
-    terms.ambient = m.ambient * light.ambient;
+    terms.ambient = sp.reflectance.ambient * light.ambient;
     switch (light.type) {
       case LightType::ambient:
         break;

@@ -24,12 +24,21 @@ struct RayStats {
   }
 };
 
-// The hit, evaluated: where it is and which way the surface faces there.
+// R_a, R_d, R_s at one point: the material's colors, or its textures' values.
+struct Reflectances {
+  Color ambient, diffuse, specular;
+};
+
+// The hit, evaluated: where it is, which way the surface faces there, and
+// what it reflects there.
 struct SurfacePoint {
   Vec3 p;
   Vec3 geometric_normal;  // unit, the shape's outward side (not yet flipped)
   Vec3 shading_normal;    // unit, likewise
   uint32_t material = 0;
+  Reflectances reflectance;
+  bool textured = false;  // the material has a texture: `uv` is set
+  UV uv;                  // surface coordinates, before any texture's scale and offset
 };
 SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit);
 

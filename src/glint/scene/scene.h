@@ -3,6 +3,7 @@
 // accel/ and render/ read it. Everything refers to everything else by index.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -37,6 +38,37 @@ struct Camera {
   double view_height = 2.0;  // world units, orthographic
 };
 
+// Surface coordinates for textures (docs/scene-format.md: "Textures").
+struct UV {
+  double u = 0, v = 0;
+};
+struct UVf {  // compact per-corner storage in meshes
+  float u = 0, v = 0;
+};
+
+enum class TextureWrap : uint8_t { repeat, clamp, mirror };
+
+// An image file's pixels as linear RGB, row 0 at the top; loaded once per
+// file however many textures use it.
+struct TextureImage {
+  std::string file;
+  int width = 0, height = 0;
+  std::vector<Vec3f> texels;  // width * height, row-major from the top row
+};
+
+// A reflectance that varies over a surface: an image or a checkerboard.
+// The lookup point is (u * scale_u + offset_u, v * scale_v + offset_v).
+enum class TextureKind : uint8_t { image, checker };
+struct Texture {
+  TextureKind kind = TextureKind::image;
+  TextureWrap wrap = TextureWrap::repeat;  // image
+  uint32_t image = 0;                      // image: into Scene::texture_images
+  Color even{1.0}, odd{0.0};               // checker: cells with floor(u') + floor(v') even / odd
+  double scale_u = 1, scale_v = 1, offset_u = 0, offset_v = 0;
+};
+
+inline constexpr uint32_t kNoTexture = UINT32_MAX;
+
 // The reflectances of the Phong model plus the recursive-ray weights.
 struct Material {
   std::string name;
@@ -49,6 +81,13 @@ struct Material {
   double ior = 1.5;
   bool fresnel = false;
   bool unlit = false;  // MTL illum 0: the color is `diffuse`, no lights, no shadows
+  // Textures that replace R_a, R_d, R_s at the hit point: into Scene::textures.
+  uint32_t ambient_texture = kNoTexture, diffuse_texture = kNoTexture, specular_texture = kNoTexture;
+
+  // One test on the integrator's hot path: plain colors skip all texture work.
+  bool textured() const {
+    return (ambient_texture & diffuse_texture & specular_texture) != kNoTexture;
+  }
 };
 
 enum class LightType { ambient, point, directional, spot, area };
@@ -83,6 +122,7 @@ struct Mesh {
   std::vector<uint32_t> indices;            // 3 per triangle
   std::vector<Vec3f> corner_normals;        // 3 per triangle, unit
   std::vector<uint32_t> triangle_material;  // per triangle, into Scene::materials
+  std::vector<UVf> corner_uvs;              // 3 per triangle, or empty: the file has no UVs
   Bounds3 bounds;                           // of the positions, set by add_mesh
 
   size_t triangle_count() const { return indices.size() / 3; }
@@ -115,6 +155,11 @@ struct Scene {
   std::vector<Box> boxes;
   std::vector<Mesh> meshes;
   std::vector<Transform> transforms;
+  std::vector<Texture> textures;
+  std::vector<TextureImage> texture_images;
+  // Per-vertex UVs of triangle objects that give them, by Scene::triangles
+  // index (the rest use (0,0), (1,0), (0,1)); apart, so Triangle stays small.
+  std::unordered_map<uint32_t, std::array<UV, 3>> triangle_uvs;
   std::vector<std::string> warnings;  // recoverable problems met while loading
   // Names the scene file gave objects (most have none; kept apart so Object
   // stays 16 bytes for scenes of millions of objects).

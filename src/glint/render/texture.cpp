@@ -1,0 +1,146 @@
+#include "glint/render/texture.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "glint/geometry/shapes.h"
+
+namespace glint {
+
+int wrap_texel(long long i, int n, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::clamp:
+      return static_cast<int>(std::clamp<long long>(i, 0, n - 1));
+    case TextureWrap::mirror: {
+      long long m = i % (2LL * n);
+      if (m < 0) m += 2LL * n;
+      return static_cast<int>(m < n ? m : 2LL * n - 1 - m);
+    }
+    case TextureWrap::repeat:
+      break;
+  }
+  long long m = i % n;
+  return static_cast<int>(m < 0 ? m + n : m);
+}
+
+namespace {
+
+// Reduces a coordinate to one period of the wrap mode before it becomes a
+// texel index, so huge u, v neither overflow nor lose the fraction; NaN -> 0.
+double reduce(double t, TextureWrap wrap) {
+  if (!std::isfinite(t)) return 0.0;
+  switch (wrap) {
+    case TextureWrap::repeat: return t - std::floor(t);
+    case TextureWrap::mirror: return t - 2.0 * std::floor(0.5 * t);
+    case TextureWrap::clamp: return std::clamp(t, -1.0, 2.0);
+  }
+  return t;
+}
+
+Color texel(const TextureImage& image, int x, int y) {
+  return to_vec3(image.texels[static_cast<size_t>(y) * static_cast<size_t>(image.width) + static_cast<size_t>(x)]);
+}
+
+}  // namespace
+
+Color sample_image(const TextureImage& image, double u, double v, TextureWrap wrap) {
+  if (image.width <= 0 || image.height <= 0) return Color(0.0);
+  // Continuous texel coordinates, texel centers at whole numbers.
+  const double x = reduce(u, wrap) * image.width - 0.5;
+  const double y = (1.0 - reduce(v, wrap)) * image.height - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y);
+  const double fx = x - x0, fy = y - y0;
+  const auto ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
+  const int xa = wrap_texel(ix, image.width, wrap), xb = wrap_texel(ix + 1, image.width, wrap);
+  const int ya = wrap_texel(iy, image.height, wrap), yb = wrap_texel(iy + 1, image.height, wrap);
+  const Color top = (1.0 - fx) * texel(image, xa, ya) + fx * texel(image, xb, ya);
+  const Color bottom = (1.0 - fx) * texel(image, xa, yb) + fx * texel(image, xb, yb);
+  return (1.0 - fy) * top + fy * bottom;
+}
+
+Color evaluate_texture(const Scene& scene, const Texture& texture, UV uv) {
+  const double u = uv.u * texture.scale_u + texture.offset_u;
+  const double v = uv.v * texture.scale_v + texture.offset_v;
+  if (texture.kind == TextureKind::checker) {
+    if (!std::isfinite(u) || !std::isfinite(v)) return texture.even;
+    const double cells = std::floor(u) + std::floor(v);
+    return std::fmod(std::abs(cells), 2.0) == 0.0 ? texture.even : texture.odd;
+  }
+  return sample_image(scene.texture_images[texture.image], u, v, texture.wrap);
+}
+
+void plane_frame(const Vec3& n, Vec3& e_u, Vec3& e_v) {
+  const bool y_largest = std::abs(n.y) >= std::abs(n.x) && std::abs(n.y) >= std::abs(n.z);
+  const Vec3 r = y_largest ? Vec3(0, 0, 1) : Vec3(0, -1, 0);
+  e_u = normalize(cross(n, r));
+  e_v = cross(n, e_u);
+}
+
+UV sphere_uv(const Vec3& d) {
+  const double theta = std::acos(std::clamp(d.y, -1.0, 1.0));
+  return {0.5 + std::atan2(d.x, d.z) / (2.0 * std::numbers::pi), 1.0 - theta / std::numbers::pi};
+}
+
+namespace {
+
+// Where t lies between lo and hi along +axis (sign > 0) or -axis, as 0..1.
+double along(double t, double lo, double hi, double sign) {
+  return sign > 0 ? (t - lo) / (hi - lo) : (hi - t) / (hi - lo);
+}
+
+UV barycentric_uv(const UV& a, const UV& b, const UV& c, double b1, double b2) {
+  const double b0 = 1.0 - b1 - b2;
+  return {b0 * a.u + b1 * b.u + b2 * c.u, b0 * a.v + b1 * b.v + b2 * c.v};
+}
+
+}  // namespace
+
+UV surface_uv(const Scene& scene, const Hit& hit, const Vec3& p) {
+  const Object& object = scene.objects[hit.object];
+  const auto to_object = [&](const Vec3& q) {
+    return object.transform == kNoTransform ? q : scene.transforms[object.transform].inverse_point(q);
+  };
+  switch (object.type) {
+    case ShapeType::sphere: {
+      const Sphere& s = scene.spheres[object.shape];
+      return sphere_uv(normalize(to_object(p) - s.center));
+    }
+    case ShapeType::plane: {
+      const Plane& pl = scene.planes[object.shape];
+      Vec3 e_u, e_v;
+      plane_frame(pl.normal, e_u, e_v);
+      return {dot(p - pl.point, e_u), dot(p - pl.point, e_v)};
+    }
+    case ShapeType::box: {
+      // Each face shows the unit square once, oriented by the plane frame of
+      // its outward normal (whose axes are box axes, up to sign).
+      const Box& b = scene.boxes[object.shape];
+      const Vec3 q = to_object(p);
+      Vec3 e_u, e_v;
+      plane_frame(box_face_normal(hit.face), e_u, e_v);
+      UV uv;
+      for (int axis = 0; axis < 3; ++axis) {
+        if (e_u[axis] != 0) uv.u = along(q[axis], b.lo[axis], b.hi[axis], e_u[axis]);
+        if (e_v[axis] != 0) uv.v = along(q[axis], b.lo[axis], b.hi[axis], e_v[axis]);
+      }
+      return uv;
+    }
+    case ShapeType::triangle: {
+      static constexpr std::array<UV, 3> kDefault{UV{0, 0}, UV{1, 0}, UV{0, 1}};
+      const auto it = scene.triangle_uvs.find(object.shape);
+      const std::array<UV, 3>& c = it == scene.triangle_uvs.end() ? kDefault : it->second;
+      return barycentric_uv(c[0], c[1], c[2], hit.b1, hit.b2);
+    }
+    case ShapeType::mesh: {
+      const Mesh& mesh = scene.meshes[object.shape];
+      if (mesh.corner_uvs.empty()) return {hit.b1, hit.b2};
+      const UVf* c = &mesh.corner_uvs[3 * static_cast<size_t>(hit.primitive)];
+      return barycentric_uv({c[0].u, c[0].v}, {c[1].u, c[1].v}, {c[2].u, c[2].v}, hit.b1, hit.b2);
+    }
+  }
+  return {};
+}
+
+}  // namespace glint
