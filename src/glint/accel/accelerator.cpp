@@ -20,8 +20,9 @@ bool intersect_mesh(const Mesh& mesh, const MeshBvh* bvh, uint32_t index, const 
   if (bvh) {
     uint32_t triangle = 0;
     float t = 0;
-    if (!intersect_mesh_bvh(*bvh, object_ray, triangle, t)) return false;
-    const TriangleHit h = triangle_plane_hit(mesh_triangle(mesh, triangle), object_ray);
+    Triangle vertices;
+    if (!intersect_mesh_bvh(*bvh, object_ray, triangle, t, vertices)) return false;
+    const TriangleHit h = triangle_plane_hit(vertices, object_ray);
     // The double crossing of a float hit can fall just outside the interval
     // (grazing rays, hits at t_min): the float distance stands then.
     hit = Hit{h.t > object_ray.t_min && h.t < object_ray.t_max ? h.t : static_cast<double>(t), index, h.b1, h.b2, 0,

@@ -100,12 +100,20 @@ float float_t_min(const Ray& ray) { return static_cast<float>(ray.t_min); }
 
 }  // namespace
 
-bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, float& t_hit) {
+Triangle block_triangle(const Triangle4& b, int lane) {
+  return {Vec3(b.v[0][0][lane], b.v[0][1][lane], b.v[0][2][lane]),
+          Vec3(b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]),
+          Vec3(b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane])};
+}
+
+bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, float& t_hit, Triangle& vertices) {
   const WatertightRay4 wray(ray);
   const __m128 t_min = _mm_set1_ps(float_t_min(ray));
   Ray traversal = ray;
   float best = clamp_to_float(ray.t_max);
-  return traverse_closest_leaves(m.bvh, traversal, [&](uint32_t first, uint32_t count, Ray& r) {
+  uint32_t best_block = 0;
+  int best_lane = 0;
+  const bool found = traverse_closest_leaves(m.bvh, traversal, [&](uint32_t first, uint32_t count, Ray& r) {
     bool found = false;
     for (uint32_t b = first; b < first + count; ++b) {
       __m128 t;
@@ -118,17 +126,20 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
         mask &= mask - 1;
         if (ts[lane] < best) {
           best = ts[lane];
-          triangle = m.blocks[b].id[lane];
+          best_block = b;
+          best_lane = lane;
           found = true;
         }
       }
     }
-    if (found) {
-      r.t_max = best;
-      t_hit = best;
-    }
+    if (found) r.t_max = best;
     return found;
   });
+  if (!found) return false;
+  t_hit = best;
+  triangle = m.blocks[best_block].id[best_lane];
+  vertices = block_triangle(m.blocks[best_block], best_lane);
+  return true;
 }
 
 bool occluded_mesh_bvh(const MeshBvh& m, const Ray& ray) {
