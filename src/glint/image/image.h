@@ -5,7 +5,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -38,11 +40,38 @@ float srgb_decode(float encoded);
 // round(srgb_encode(linear) * 255); NaN -> 0.
 std::uint8_t to_srgb8(float linear);
 
+// How 8-bit outputs encode linear values. Float outputs ignore all of it.
+struct WriteOptions {
+  // The values are data (normals, depths already scaled to [0,1]), not light:
+  // 8-bit code = round(clamp(v, 0, 1) * 255), no sRGB curve.
+  bool data = false;
+};
+
+// True for the formats that store 8-bit codes (.png .jpg .ppm).
+bool is_8bit_format(ImageFormat format);
+
 // Writes `image` in the format named by the extension of `path`:
 // .pfm/.exr exact linear float32, .png/.jpg(quality 95)/.ppm(P6) clamped 8-bit sRGB.
 // Atomic: an existing file at `path` is replaced only by a complete new file.
 // Throws glint::Error("<path>: cannot write: <reason>").
-void write_image(const Image& image, const std::filesystem::path& path);
+void write_image(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
+
+// One channel of a multi-channel EXR: component `component` (0..2) of `image`.
+struct ExrChannel {
+  std::string name;  // e.g. "R", "diffuse.G", "depth.Z"
+  const Image* image = nullptr;
+  int component = 0;
+};
+// Writes the channels (any order; EXR stores them sorted by name) as one
+// float32 ZIP-compressed EXR. All images must have the same size. Atomic.
+void write_exr_channels(const std::vector<ExrChannel>& channels, const std::filesystem::path& path);
+// Every channel of an EXR file by name (float planes, row-major from the top),
+// and its size. For tests and tools.
+struct ExrPlanes {
+  int width = 0, height = 0;
+  std::map<std::string, std::vector<float>> planes;
+};
+ExrPlanes read_exr_channels(const std::filesystem::path& path);
 
 // Reads any of the five formats back into linear floats (8-bit formats are
 // sRGB-decoded). For tests and tools. Throws glint::Error("<path>: cannot read: <reason>").
