@@ -44,6 +44,8 @@ struct RenderArgs {
   bool resume = false;
   std::optional<std::string> passes;
   bool passes_layered = false;
+  std::optional<double> exposure;
+  std::optional<std::string> tonemap;
 };
 
 // Set by SIGINT/SIGTERM: the render stops, writes what it has and a resume
@@ -120,6 +122,27 @@ CLI::Validator whole_number_in(long long lo, long long hi) {
         return {};
       },
       "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+// A finite number in [lo, hi] (CLI11's Range lets NaN through).
+CLI::Validator number_in(double lo, double hi) {
+  auto text_of = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  return CLI::Validator(
+      [lo, hi, text_of](std::string& text) -> std::string {
+        double value = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+        if (text.empty() || ec == std::errc::invalid_argument || ptr != end || !std::isfinite(value))
+          return "expected a number, got \"" + text + "\"";
+        if (ec == std::errc::result_out_of_range || value < lo || value > hi)
+          return "must be between " + text_of(lo) + " and " + text_of(hi) + " (got " + text + ")";
+        return {};
+      },
+      "NUMBER in [" + text_of(lo) + ", " + text_of(hi) + "]");
 }
 
 // One of `names`, with a did-you-mean hint for near misses.
@@ -231,7 +254,7 @@ void add_pass_channels(std::vector<glint::ExrChannel>& channels, glint::Pass pas
 // The main image and its passes: each pass beside the output in its format,
 // or (layered) all of them as channels of the one EXR output.
 void write_outputs(const glint::Image& image, const glint::PassImages& passes, const std::string& output,
-                   bool layered) {
+                   bool layered, const glint::WriteOptions& light) {
   using namespace glint;
   if (layered) {
     std::vector<ExrChannel> channels = {{"R", &image, 0}, {"G", &image, 1}, {"B", &image, 2}};
@@ -246,12 +269,12 @@ void write_outputs(const glint::Image& image, const glint::PassImages& passes, c
     if (!eight_bit) {
       write_image(passes.images[i], path);
     } else {
-      WriteOptions options;
+      WriteOptions options = light;
       options.data = pass == Pass::normal || pass == Pass::depth;
       write_image(pass_image_for_8bit(pass, passes.images[i]), path, options);
     }
   }
-  write_image(image, output);
+  write_image(image, output, light);
 }
 
 int run_render(const RenderArgs& args) {
@@ -273,9 +296,21 @@ int run_render(const RenderArgs& args) {
     if (!args.passes) pass_list = parse_pass_list("all");
   }
 
+  WriteOptions light;  // how 8-bit outputs encode the image and its color passes
+  if (args.exposure) light.exposure = *args.exposure;
+  if (args.tonemap)
+    light.tonemap = *args.tonemap == "reinhard" ? ToneMap::reinhard
+                    : *args.tonemap == "aces"   ? ToneMap::aces
+                                                : ToneMap::clamp;
+  const bool linear_output = !is_8bit_format(*image_format_for_path(output));
+
   Scene scene = load_scene(args.scene_path);
-  if (!args.quiet)
+  if (!args.quiet) {
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (linear_output && (args.exposure || args.tonemap))
+      std::fprintf(stderr, "warning: %s holds linear values: --exposure and --tonemap apply to 8-bit outputs "
+                   "(.png .jpg .ppm) only and are ignored\n", args.output_path.c_str());
+  }
   RenderSettings& r = scene.render;
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
@@ -330,13 +365,13 @@ int run_render(const RenderArgs& args) {
     for (size_t i = 0; i < passes.passes.size(); ++i)  // a missed pixel: background in ambient, 0 elsewhere
       fill_unfinished_tiles(partial_passes.images[i], tiles,
                             passes.passes[i] == Pass::ambient ? r.background : Color(0.0));
-    write_outputs(partial, partial_passes, args.output_path, args.passes_layered);
+    write_outputs(partial, partial_passes, args.output_path, args.passes_layered, light);
     if (options.progress) std::fprintf(stderr, "\n");
     throw Interrupted{"interrupted: " + std::to_string(tiles.count_done()) + " of " +
                       std::to_string(tiles.done.size()) + " tiles in " + args.output_path +
                       "; finish with the same command and --resume"};
   }
-  write_outputs(image, passes, args.output_path, args.passes_layered);
+  write_outputs(image, passes, args.output_path, args.passes_layered, light);
   std::error_code ignored;
   std::filesystem::remove(resume_path, ignored);  // finished: any resume file is stale
 
@@ -363,7 +398,7 @@ int main(int argc, char** argv) {
   RenderArgs args;
   CLI::App* render = app.add_subcommand("render", "render a scene file to an image");
   render->add_option("scene", args.scene_path, "scene file (JSON)")->required();
-  render->add_option("-o,--output", args.output_path, "output image: .png .jpg .ppm .pfm .exr")->required();
+  render->add_option("-o,--output", args.output_path, "output image: .png .jpg .ppm .pfm .exr .hdr")->required();
   render->add_option("--width", args.width, "image width in pixels")->check(whole_number_in(1, 1 << 20));
   render->add_option("--height", args.height, "image height in pixels")->check(whole_number_in(1, 1 << 20));
   render->add_option("--spp", args.spp, "samples per pixel")->check(whole_number_in(1, glint::kMaxSamplesPerPixel));
@@ -375,6 +410,10 @@ int main(int argc, char** argv) {
       ->check(whole_number_in(1, 1024));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
+  render->add_option("--exposure", args.exposure, "8-bit outputs: multiply linear values by 2^EV first")
+      ->check(number_in(-64, 64));
+  render->add_option("--tonemap", args.tonemap, "8-bit outputs: clamp (default), reinhard or aces")
+      ->check(one_of({"clamp", "reinhard", "aces"}, "tone map"));
   render->add_option("--passes", args.passes,
                      "extra images beside the output (OUT.<pass>.<ext>): comma-separated ambient, diffuse, specular, "
                      "reflection, transmission, normal, depth, albedo, or all");

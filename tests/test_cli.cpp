@@ -585,6 +585,50 @@ TEST_F(CliPasses, InterruptedRenderResumesWithItsPasses) {
   EXPECT_EQ(read_text(path("out.depth.pfm")), read_text(path("ref.depth.pfm")));
 }
 
+// --- tone mapping, exposure, Radiance HDR -------------------------------------
+
+using CliToneMap = CliTest;
+
+TEST_F(CliToneMap, ExposureAndToneMapShapeEightBitOutputs) {
+  const glint::Image exact = library_render(path("scene.json"));
+  for (const auto& [name, map] : {std::pair{"clamp", glint::ToneMap::clamp}, {"reinhard", glint::ToneMap::reinhard},
+                                  {"aces", glint::ToneMap::aces}}) {
+    SCOPED_TRACE(name);
+    const glint::Image got = render(std::string("out-") + name + ".png", std::string("--exposure 1.5 --tonemap ") + name);
+    glint::Image want = exact;
+    for (float& v : want.rgb) v = glint::tone_map(v * std::exp2(1.5f), map);
+    EXPECT_EQ(srgb_level_error(got, want).first, 0);
+  }
+  // The default is the contract's clamp, byte for byte.
+  render("default.png");
+  render("clamp.png", "--tonemap clamp --exposure 0");
+  EXPECT_EQ(read_bytes(path("default.png")), read_bytes(path("clamp.png")));
+}
+
+TEST_F(CliToneMap, LinearOutputsAreNeverToneMappedAndSayWhy) {
+  render("plain.pfm");
+  const RunResult r = run("render scene.json -o mapped.pfm --tonemap aces --exposure 2");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.err.find("warning: mapped.pfm holds linear values"), std::string::npos) << r.err;
+  EXPECT_EQ(read_bytes(path("plain.pfm")), read_bytes(path("mapped.pfm")));
+}
+
+TEST_F(CliToneMap, RadianceHdrOutput) {
+  const glint::Image want = library_render(path("scene.json"));
+  const glint::Image got = render("out.hdr");
+  ASSERT_EQ(got.width, want.width);
+  for (size_t p = 0; p < want.rgb.size(); p += 3) {
+    const float largest = std::max({want.rgb[p], want.rgb[p + 1], want.rgb[p + 2]});
+    for (size_t c = 0; c < 3; ++c) ASSERT_NEAR(got.rgb[p + c], want.rgb[p + c], largest / 128.0f) << p;
+  }
+}
+
+TEST_F(CliToneMap, Errors) {
+  expect_failure("render scene.json -o {out} --tonemap acs", "did you mean \"aces\"");
+  expect_failure("render scene.json -o {out} --exposure nan", "expected a number");
+  expect_failure("render scene.json -o {out} --exposure 65", "between -64 and 64");
+}
+
 }  // namespace
 
 // --- explain -----------------------------------------------------------------

@@ -104,6 +104,12 @@ inline std::uint8_t srgb8_with(const Srgb8Table& t, float linear) {
 // The 8-bit codes of an image: sRGB-encoded light, or data scaled by 255.
 Bytes pixels8(const Image& image, const WriteOptions& options) {
   Bytes out(image.rgb.size());
+  if (!options.data && (options.exposure != 0.0 || options.tonemap != ToneMap::clamp)) {
+    const float scale = static_cast<float>(std::exp2(options.exposure));
+    const Srgb8Table& table = srgb8_table();
+    for (size_t i = 0; i < out.size(); ++i) out[i] = srgb8_with(table, tone_map(image.rgb[i] * scale, options.tonemap));
+    return out;
+  }
   if (options.data) {
     for (size_t i = 0; i < out.size(); ++i) {
       const float v = image.rgb[i];
@@ -297,6 +303,14 @@ MallocBytes encode_exr(const Image& image) {
   return encode_exr_channels({{"R", &image, 0}, {"G", &image, 1}, {"B", &image, 2}}, image.width, image.height);
 }
 
+Bytes encode_hdr(const Image& image) {
+  StbSink sink;
+  const int ok = stbi_write_hdr_to_func(stb_append, &sink, image.width, image.height, 3, image.rgb.data());
+  if (sink.failed) throw std::bad_alloc();
+  if (!ok || sink.bytes.empty()) throw std::runtime_error("Radiance HDR encoding failed");
+  return std::move(sink.bytes);
+}
+
 // --- decoders ---------------------------------------------------------------
 
 // Walks the text header shared by PPM and PFM: whitespace-separated tokens,
@@ -483,6 +497,27 @@ ExrPlanes decode_exr_planes(const fs::path& path, const Bytes& bytes, std::vecto
   return out;
 }
 
+Image decode_hdr(const fs::path& path, const Bytes& bytes) {
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) fail_read(path, "file too large");
+  const int size = static_cast<int>(bytes.size());
+  // stbi_loadf would also take a PNG and undo a gamma it guesses: only real
+  // Radiance files are read here.
+  if (!stbi_is_hdr_from_memory(bytes.data(), size)) fail_read(path, "not a Radiance HDR file");
+  int w = 0, h = 0, file_channels = 0;
+  struct StbiDeleter {
+    void operator()(float* p) const { stbi_image_free(p); }
+  };
+  const std::unique_ptr<float, StbiDeleter> pixels(stbi_loadf_from_memory(bytes.data(), size, &w, &h, &file_channels, 3));
+  if (!pixels) {
+    const char* reason = stbi_failure_reason();
+    fail_read(path, std::string("corrupt image: ") + (reason ? reason : "unknown error"));
+  }
+  if (!valid_size(w, h)) fail_read(path, "invalid image size " + std::to_string(w) + "x" + std::to_string(h));
+  Image image(w, h);
+  std::copy(pixels.get(), pixels.get() + image.rgb.size(), image.rgb.begin());
+  return image;
+}
+
 Image decode_exr(const fs::path& path, const Bytes& bytes) {
   std::vector<std::string> uint_channels;
   const ExrPlanes exr = decode_exr_planes(path, bytes, &uint_channels);
@@ -527,10 +562,26 @@ std::optional<ImageFormat> image_format_for_path(const fs::path& path) {
   if (ext == ".ppm") return ImageFormat::ppm;
   if (ext == ".pfm") return ImageFormat::pfm;
   if (ext == ".exr") return ImageFormat::exr;
+  if (ext == ".hdr") return ImageFormat::hdr;
   return std::nullopt;
 }
 
-std::string_view supported_image_extensions() { return ".png, .jpg, .ppm, .pfm, .exr"; }
+std::string_view supported_image_extensions() { return ".png, .jpg, .ppm, .pfm, .exr, .hdr"; }
+
+float tone_map(float linear, ToneMap map) {
+  if (!(linear > 0.0f)) return 0.0f;  // also NaN
+  const double x = linear;
+  switch (map) {
+    case ToneMap::clamp:
+      return std::min(linear, 1.0f);
+    case ToneMap::reinhard:
+      return std::isinf(x) ? 1.0f : static_cast<float>(x / (1.0 + x));
+    case ToneMap::aces:
+      if (std::isinf(x)) return 1.0f;
+      return static_cast<float>(std::clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0));
+  }
+  return 0.0f;
+}
 
 float srgb_encode(float linear) {
   if (!(linear > 0.0f)) return 0.0f;  // also NaN
@@ -587,6 +638,9 @@ void write_image(const Image& image, const fs::path& path, const WriteOptions& o
         write_file_atomically(path, {exr.data.get(), exr.size});
         break;
       }
+      case ImageFormat::hdr:
+        write_file_atomically(path, encode_hdr(image));
+        break;
     }
   } catch (const Error&) {
     throw;
@@ -643,6 +697,8 @@ Image read_image(const fs::path& path) {
         return decode_stb(path, bytes);
       case ImageFormat::exr:
         return decode_exr(path, bytes);
+      case ImageFormat::hdr:
+        return decode_hdr(path, bytes);
     }
     fail_read(path, "unknown image format");
   } catch (const Error&) {
