@@ -24,6 +24,7 @@
 #include "glint/image/image.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
+#include "glint/render/passes.h"
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
 #include "glint/io/file_io.h"
@@ -42,6 +43,10 @@ struct RenderArgs {
   std::string accel = "auto";
   bool quiet = false;
   bool resume = false;
+  std::optional<std::string> passes;
+  bool passes_layered = false;
+  std::optional<double> exposure;
+  std::optional<std::string> tonemap;
 };
 
 glint::AccelBackend backend_named(const std::string& name) {
@@ -124,6 +129,27 @@ CLI::Validator whole_number_in(long long lo, long long hi) {
         return {};
       },
       "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+// A finite number in [lo, hi] (CLI11's Range lets NaN through).
+CLI::Validator number_in(double lo, double hi) {
+  auto text_of = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  return CLI::Validator(
+      [lo, hi, text_of](std::string& text) -> std::string {
+        double value = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+        if (text.empty() || ec == std::errc::invalid_argument || ptr != end || !std::isfinite(value))
+          return "expected a number, got \"" + text + "\"";
+        if (ec == std::errc::result_out_of_range || value < lo || value > hi)
+          return "must be between " + text_of(lo) + " and " + text_of(hi) + " (got " + text + ")";
+        return {};
+      },
+      "NUMBER in [" + text_of(lo) + ", " + text_of(hi) + "]");
 }
 
 // One of `names`, with a did-you-mean hint for near misses.
@@ -231,6 +257,44 @@ int run_info(const std::string& scene_path) {
   return 0;
 }
 
+// The EXR channel names of a pass: color-like passes R, G, B; the normal X, Y, Z;
+// depth one channel Z.
+void add_pass_channels(std::vector<glint::ExrChannel>& channels, glint::Pass pass, const glint::Image& image) {
+  const std::string layer(glint::pass_name(pass));
+  if (pass == glint::Pass::depth) {
+    channels.push_back({layer + ".Z", &image, 0});
+    return;
+  }
+  const char* names = pass == glint::Pass::normal ? "XYZ" : "RGB";
+  for (int c = 0; c < 3; ++c) channels.push_back({layer + "." + names[c], &image, c});
+}
+
+// The main image and its passes: each pass beside the output in its format,
+// or (layered) all of them as channels of the one EXR output.
+void write_outputs(const glint::Image& image, const glint::PassImages& passes, const std::string& output,
+                   bool layered, const glint::WriteOptions& light) {
+  using namespace glint;
+  if (layered) {
+    std::vector<ExrChannel> channels = {{"R", &image, 0}, {"G", &image, 1}, {"B", &image, 2}};
+    for (size_t i = 0; i < passes.passes.size(); ++i) add_pass_channels(channels, passes.passes[i], passes.images[i]);
+    write_exr_channels(channels, output);
+    return;
+  }
+  const bool eight_bit = is_8bit_format(*image_format_for_path(output));
+  for (size_t i = 0; i < passes.passes.size(); ++i) {
+    const Pass pass = passes.passes[i];
+    const std::string path = pass_file_name(output, pass);
+    if (!eight_bit) {
+      write_image(passes.images[i], path);
+    } else {
+      WriteOptions options = light;
+      options.data = pass == Pass::normal || pass == Pass::depth;
+      write_image(pass_image_for_8bit(pass, passes.images[i]), path, options);
+    }
+  }
+  write_image(image, output, light);
+}
+
 int run_render(const RenderArgs& args) {
   using namespace glint;
   const auto start = std::chrono::steady_clock::now();
@@ -242,9 +306,29 @@ int run_render(const RenderArgs& args) {
   if (!std::filesystem::is_directory(out_dir))
     throw Error(args.output_path + ": output folder " + out_dir.string() + " does not exist");
 
+  std::vector<Pass> pass_list;
+  if (args.passes) pass_list = parse_pass_list(*args.passes);
+  if (args.passes_layered) {
+    if (image_format_for_path(output) != ImageFormat::exr)
+      throw Error(args.output_path + ": --passes-layered writes one multi-layer EXR: the output must be .exr");
+    if (!args.passes) pass_list = parse_pass_list("all");
+  }
+
+  WriteOptions light;  // how 8-bit outputs encode the image and its color passes
+  if (args.exposure) light.exposure = *args.exposure;
+  if (args.tonemap)
+    light.tonemap = *args.tonemap == "reinhard" ? ToneMap::reinhard
+                    : *args.tonemap == "aces"   ? ToneMap::aces
+                                                : ToneMap::clamp;
+  const bool linear_output = !is_8bit_format(*image_format_for_path(output));
+
   Scene scene = load_scene(args.scene_path);
-  if (!args.quiet)
+  if (!args.quiet) {
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (linear_output && (args.exposure || args.tonemap))
+      std::fprintf(stderr, "warning: %s holds linear values: --exposure and --tonemap apply to 8-bit outputs "
+                   "(.png .jpg .ppm) only and are ignored\n", args.output_path.c_str());
+  }
   RenderSettings& r = scene.render;
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
@@ -258,13 +342,18 @@ int run_render(const RenderArgs& args) {
   const uint64_t key = resume_key(read_file(args.scene_path), r);
   Image image;
   TileProgress tiles;
+  PassImages passes;
   if (args.resume) {
     if (auto state = read_resume_file(resume_path)) {
       if (state->key != key || state->image.width != r.width || state->image.height != r.height)
         throw Error(resume_path.string() + ": made for a different scene or different settings; "
                     "delete it to render from the start");
+      if (state->passes.passes != pass_list)
+        throw Error(resume_path.string() + ": made with other --passes; resume with the same passes, "
+                    "or delete it to render from the start");
       image = std::move(state->image);
       tiles = std::move(state->progress);
+      passes = std::move(state->passes);
     } else if (!args.quiet) {
       std::fprintf(stderr, "glint: no resume file %s: rendering from the start\n", resume_path.c_str());
     }
@@ -272,6 +361,7 @@ int run_render(const RenderArgs& args) {
   if (tiles.done.empty()) {
     image = Image(r.width, r.height);
     tiles = TileProgress(r.width, r.height, 16);
+    passes = PassImages(pass_list, r.width, r.height);
   }
 
   const auto accel = build_accelerator(scene, AcceleratorOptions{args.threads.value_or(0), backend_named(args.accel)});
@@ -282,20 +372,24 @@ int run_render(const RenderArgs& args) {
   if (!args.quiet && isatty(STDERR_FILENO)) options.progress = [&bar](double f) { bar.update(f); };
   RenderStats stats;
   install_interrupt_handlers();
-  const bool complete = render_tiles(scene, *accel, image, tiles, options, &stats);
+  const bool complete = render_tiles(scene, *accel, image, tiles, options, &stats, &passes);
   if (!complete) {
     // Interrupted: keep the finished tiles (the rest is background) and what
     // --resume needs to finish the job bit-identically.
-    write_resume_file(resume_path, ResumeState{key, tiles, image});
+    write_resume_file(resume_path, ResumeState{key, tiles, image, passes});
     Image partial = image;
     fill_unfinished_tiles(partial, tiles, r.background);
-    write_image(partial, output);
+    PassImages partial_passes = passes;
+    for (size_t i = 0; i < passes.passes.size(); ++i)  // a missed pixel: background in ambient, 0 elsewhere
+      fill_unfinished_tiles(partial_passes.images[i], tiles,
+                            passes.passes[i] == Pass::ambient ? r.background : Color(0.0));
+    write_outputs(partial, partial_passes, args.output_path, args.passes_layered, light);
     if (options.progress) std::fprintf(stderr, "\n");
     throw Interrupted{"interrupted: " + std::to_string(tiles.count_done()) + " of " +
                       std::to_string(tiles.done.size()) + " tiles in " + args.output_path +
                       "; finish with the same command and --resume"};
   }
-  write_image(image, output);
+  write_outputs(image, passes, args.output_path, args.passes_layered, light);
   std::error_code ignored;
   std::filesystem::remove(resume_path, ignored);  // finished: any resume file is stale
 
@@ -323,7 +417,7 @@ int main(int argc, char** argv) {
   RenderArgs args;
   CLI::App* render = app.add_subcommand("render", "render a scene file to an image");
   render->add_option("scene", args.scene_path, "scene file (JSON)")->required();
-  render->add_option("-o,--output", args.output_path, "output image: .png .jpg .ppm .pfm .exr")->required();
+  render->add_option("-o,--output", args.output_path, "output image: .png .jpg .ppm .pfm .exr .hdr")->required();
   render->add_option("--width", args.width, "image width in pixels")->check(whole_number_in(1, 1 << 20));
   render->add_option("--height", args.height, "image height in pixels")->check(whole_number_in(1, 1 << 20));
   render->add_option("--spp", args.spp, "samples per pixel")->check(whole_number_in(1, glint::kMaxSamplesPerPixel));
@@ -339,6 +433,15 @@ int main(int argc, char** argv) {
       ->check(one_of({"auto", "bvh", "embree"}, "accelerator"));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
+  render->add_option("--exposure", args.exposure, "8-bit outputs: multiply linear values by 2^EV first")
+      ->check(number_in(-64, 64));
+  render->add_option("--tonemap", args.tonemap, "8-bit outputs: clamp (default), reinhard or aces")
+      ->check(one_of({"clamp", "reinhard", "aces"}, "tone map"));
+  render->add_option("--passes", args.passes,
+                     "extra images beside the output (OUT.<pass>.<ext>): comma-separated ambient, diffuse, specular, "
+                     "reflection, transmission, normal, depth, albedo, or all");
+  render->add_flag("--passes-layered", args.passes_layered,
+                   "write the passes as layers of the one .exr output instead (all passes unless --passes)");
 
   std::string validate_path, info_path;
   bool validate_quiet = false;

@@ -25,7 +25,10 @@
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
 #include "glint/io/scene_loader.h"
+#include "glint/io/file_io.h"
+#include "glint/render/passes.h"
 #include "glint/render/renderer.h"
+#include "glint/render/resume.h"
 
 namespace {
 
@@ -510,6 +513,133 @@ TEST_F(CliErrors, FailedWriteLeavesNoTemporaryFile) {
   EXPECT_EQ(lines_of(err).size(), 1u) << err;
   EXPECT_EQ(err.rfind("error: out.png: cannot write", 0), 0u) << err;
   EXPECT_EQ(listing(), before);
+}
+
+// --- passes ---------------------------------------------------------------
+
+using CliPasses = CliTest;
+
+constexpr const char* kColorPasses[] = {"ambient", "diffuse", "specular", "reflection", "transmission"};
+
+TEST_F(CliPasses, OneFilePerPassInTheOutputsFormatSummingToTheImage) {
+  for (const std::string ext : {"pfm", "exr"}) {
+    SCOPED_TRACE(ext);
+    const glint::Image beauty = render("out." + ext, "--spp 4 --passes all");
+    EXPECT_TRUE(same_pixels(beauty, library_render(path("scene.json"), [](glint::Scene& s) {
+                  s.render.samples_per_pixel = 4;
+                })));
+    std::vector<double> sum(beauty.rgb.size(), 0.0);
+    for (const char* pass : kColorPasses) {
+      const glint::Image p = glint::read_image(path(std::string("out.") + pass + "." + ext));
+      ASSERT_EQ(p.width, beauty.width);
+      for (size_t i = 0; i < sum.size(); ++i) sum[i] += p.rgb[i];
+    }
+    for (size_t i = 0; i < sum.size(); ++i)
+      ASSERT_NEAR(sum[i], beauty.rgb[i], 1e-6 * std::max(1.0f, beauty.rgb[i])) << i;
+    for (const char* pass : {"normal", "depth", "albedo"})
+      EXPECT_TRUE(fs::exists(path(std::string("out.") + pass + "." + ext))) << pass;
+  }
+  render("out.png", "--passes normal,diffuse");
+  EXPECT_TRUE(fs::exists(path("out.normal.png")));
+  EXPECT_TRUE(fs::exists(path("out.diffuse.png")));
+  EXPECT_FALSE(fs::exists(path("out.depth.png")));
+}
+
+TEST_F(CliPasses, LayeredExrHoldsEveryPassAsChannels) {
+  const glint::Image beauty = render("out.exr", "--passes-layered");
+  const glint::ExrPlanes exr = glint::read_exr_channels(path("out.exr"));
+  std::vector<std::string> names;
+  for (const auto& [name, plane] : exr.planes) names.push_back(name);
+  const std::vector<std::string> want = {"B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "ambient.B", "ambient.G",
+      "ambient.R", "depth.Z", "diffuse.B", "diffuse.G", "diffuse.R", "normal.X", "normal.Y", "normal.Z",
+      "reflection.B", "reflection.G", "reflection.R", "specular.B", "specular.G", "specular.R",
+      "transmission.B", "transmission.G", "transmission.R"};
+  EXPECT_EQ(names, want);
+  for (size_t i = 0; i < beauty.rgb.size() / 3; ++i) {
+    double sum = 0;
+    for (const char* pass : kColorPasses) sum += exr.planes.at(std::string(pass) + ".G")[i];
+    ASSERT_NEAR(sum, beauty.rgb[3 * i + 1], 1e-6 * std::max(1.0f, beauty.rgb[3 * i + 1])) << i;
+  }
+  EXPECT_FALSE(fs::exists(path("out.diffuse.exr")));
+}
+
+TEST_F(CliPasses, Errors) {
+  expect_failure("render scene.json -o {out} --passes diffuse,specularr", "did you mean \"specular\"");
+  expect_failure("render scene.json -o {out} --passes-layered", "must be .exr");
+}
+
+TEST_F(CliPasses, InterruptedRenderResumesWithItsPasses) {
+  // A resume file with half the tiles done (as an interrupted run leaves it),
+  // then --resume: the passes equal an uninterrupted run's.
+  render("ref.pfm", "--passes diffuse,depth");
+  glint::Scene scene = glint::load_scene(path("scene.json"));
+  const auto accel = glint::build_accelerator(scene);
+  glint::Image image(24, 16);
+  glint::PassImages passes({glint::Pass::diffuse, glint::Pass::depth}, 24, 16);
+  glint::TileProgress tiles(24, 16, 16);
+  tiles.done[1] = 1;  // the right tile is to be rendered now, the left one "was done"
+  tiles.done[0] = 0;
+  glint::TileProgress first = tiles;
+  first.done = {0, 1};
+  ASSERT_TRUE(glint::render_tiles(scene, *accel, image, first, {}, nullptr, &passes));
+  tiles.done = {1, 0};
+  const std::vector<unsigned char> scene_bytes = glint::read_file(path("scene.json"));
+  glint::write_resume_file(path("out.pfm.glint-resume"),
+                           glint::ResumeState{glint::resume_key(scene_bytes, scene.render), tiles, image, passes});
+  // Other passes than the resume file's: refused, the resume file stays.
+  const RunResult wrong = run("render scene.json -o out.pfm --quiet --resume --passes diffuse");
+  EXPECT_NE(wrong.exit_code, 0);
+  EXPECT_NE(wrong.err.find("other --passes"), std::string::npos) << wrong.err;
+  ASSERT_TRUE(fs::exists(path("out.pfm.glint-resume")));
+  render("out.pfm", "--resume --passes diffuse,depth");
+  EXPECT_FALSE(fs::exists(path("out.pfm.glint-resume")));
+  EXPECT_EQ(read_text(path("out.pfm")), read_text(path("ref.pfm")));
+  EXPECT_EQ(read_text(path("out.diffuse.pfm")), read_text(path("ref.diffuse.pfm")));
+  EXPECT_EQ(read_text(path("out.depth.pfm")), read_text(path("ref.depth.pfm")));
+}
+
+// --- tone mapping, exposure, Radiance HDR -------------------------------------
+
+using CliToneMap = CliTest;
+
+TEST_F(CliToneMap, ExposureAndToneMapShapeEightBitOutputs) {
+  const glint::Image exact = library_render(path("scene.json"));
+  for (const auto& [name, map] : {std::pair{"clamp", glint::ToneMap::clamp}, {"reinhard", glint::ToneMap::reinhard},
+                                  {"aces", glint::ToneMap::aces}}) {
+    SCOPED_TRACE(name);
+    const glint::Image got = render(std::string("out-") + name + ".png", std::string("--exposure 1.5 --tonemap ") + name);
+    glint::Image want = exact;
+    for (float& v : want.rgb) v = glint::tone_map(v * std::exp2(1.5f), map);
+    EXPECT_EQ(srgb_level_error(got, want).first, 0);
+  }
+  // The default is the contract's clamp, byte for byte.
+  render("default.png");
+  render("clamp.png", "--tonemap clamp --exposure 0");
+  EXPECT_EQ(read_bytes(path("default.png")), read_bytes(path("clamp.png")));
+}
+
+TEST_F(CliToneMap, LinearOutputsAreNeverToneMappedAndSayWhy) {
+  render("plain.pfm");
+  const RunResult r = run("render scene.json -o mapped.pfm --tonemap aces --exposure 2");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.err.find("warning: mapped.pfm holds linear values"), std::string::npos) << r.err;
+  EXPECT_EQ(read_bytes(path("plain.pfm")), read_bytes(path("mapped.pfm")));
+}
+
+TEST_F(CliToneMap, RadianceHdrOutput) {
+  const glint::Image want = library_render(path("scene.json"));
+  const glint::Image got = render("out.hdr");
+  ASSERT_EQ(got.width, want.width);
+  for (size_t p = 0; p < want.rgb.size(); p += 3) {
+    const float largest = std::max({want.rgb[p], want.rgb[p + 1], want.rgb[p + 2]});
+    for (size_t c = 0; c < 3; ++c) ASSERT_NEAR(got.rgb[p + c], want.rgb[p + c], largest / 128.0f) << p;
+  }
+}
+
+TEST_F(CliToneMap, Errors) {
+  expect_failure("render scene.json -o {out} --tonemap acs", "did you mean \"aces\"");
+  expect_failure("render scene.json -o {out} --exposure nan", "expected a number");
+  expect_failure("render scene.json -o {out} --exposure 65", "between -64 and 64");
 }
 
 }  // namespace

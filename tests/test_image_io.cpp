@@ -274,7 +274,7 @@ TEST(ImageFormats, ByExtensionCaseInsensitive) {
   EXPECT_FALSE(glint::image_format_for_path("png"));
   EXPECT_FALSE(glint::image_format_for_path("a.png.tmp"));
   EXPECT_FALSE(glint::image_format_for_path(""));
-  EXPECT_EQ(glint::supported_image_extensions(), ".png, .jpg, .ppm, .pfm, .exr");
+  EXPECT_EQ(glint::supported_image_extensions(), ".png, .jpg, .ppm, .pfm, .exr, .hdr");
 }
 
 TEST(ImageBasics, ConstructionAndPixelAccess) {
@@ -455,7 +455,7 @@ TEST_F(ImageIo, UnsupportedExtensionLeavesExistingFile) {
   const fs::path path = dir_ / "out.bmp";
   write_text(path, "precious");
   const std::string what = expect_write_error(float_test_image(), path);
-  EXPECT_NE(what.find(".png, .jpg, .ppm, .pfm, .exr"), std::string::npos) << what;
+  EXPECT_NE(what.find(".png, .jpg, .ppm, .pfm, .exr, .hdr"), std::string::npos) << what;
   EXPECT_NE(what.find(".bmp"), std::string::npos) << what;
   EXPECT_EQ(read_text(path), "precious");
   expect_write_error(float_test_image(), dir_ / "no_extension");
@@ -673,3 +673,127 @@ TEST(ImageSrgbTable, MatchesTheFormulaAcrossTheFloatRange) {
 
 }  // namespace
 }  // namespace glint
+
+// --- tone mapping, exposure, Radiance HDR, data encoding, EXR channels ----------
+
+namespace {
+
+// The PPM's 8-bit codes, straight from the file (no decoding).
+Bytes ppm_codes(const fs::path& path) {
+  const Bytes bytes = read_bytes(path);
+  size_t pos = 0;
+  for (int newlines = 0; newlines < 3; ++pos) newlines += bytes[pos] == '\n';
+  return Bytes(bytes.begin() + static_cast<std::ptrdiff_t>(pos), bytes.end());
+}
+
+}  // namespace
+
+TEST(ToneMap, KnownValuesFromTheFormulas) {
+  using glint::ToneMap;
+  using glint::tone_map;
+  for (const float x : {0.0f, 0.01f, 0.18f, 0.5f, 1.0f, 2.0f, 7.5f, 100.0f, 1e6f}) {
+    SCOPED_TRACE(x);
+    EXPECT_EQ(tone_map(x, ToneMap::clamp), std::min(x, 1.0f));
+    EXPECT_FLOAT_EQ(tone_map(x, ToneMap::reinhard), x / (1.0f + x));  // Reinhard
+    // ACES: Narkowicz's fit (2015), clamped to [0, 1].
+    const double d = x;
+    const double aces = std::clamp(d * (2.51 * d + 0.03) / (d * (2.43 * d + 0.59) + 0.14), 0.0, 1.0);
+    EXPECT_FLOAT_EQ(tone_map(x, ToneMap::aces), static_cast<float>(aces));
+  }
+  EXPECT_FLOAT_EQ(tone_map(1.0f, ToneMap::reinhard), 0.5f);
+  EXPECT_NEAR(tone_map(1.0f, ToneMap::aces), 2.54 / 3.16, 1e-7);
+  EXPECT_EQ(tone_map(1e6f, ToneMap::aces), 1.0f);  // the fit rises above 1 (2.51/2.43): clamped
+  for (const ToneMap m : {ToneMap::clamp, ToneMap::reinhard, ToneMap::aces}) {
+    EXPECT_EQ(tone_map(-1.0f, m), 0.0f);
+    EXPECT_EQ(tone_map(std::numeric_limits<float>::quiet_NaN(), m), 0.0f);
+    EXPECT_EQ(tone_map(std::numeric_limits<float>::infinity(), m), 1.0f);
+  }
+}
+
+TEST_F(ImageIo, ExposureAndToneMapChangeOnlyEightBitOutputs) {
+  Image image(3, 1);
+  image.rgb = {0.25f, 1.0f, 3.0f, 0.05f, 0.5f, 20.0f, 0.0f, 0.18f, 1.5f};
+  // Default options: the very bytes of the plain write (the contract's clamp).
+  glint::write_image(image, dir_ / "plain.ppm");
+  glint::write_image(image, dir_ / "default.ppm", glint::WriteOptions{});
+  EXPECT_EQ(read_bytes(dir_ / "plain.ppm"), read_bytes(dir_ / "default.ppm"));
+
+  glint::WriteOptions exposed;
+  exposed.exposure = 1;  // x2
+  glint::write_image(image, dir_ / "ev1.ppm", exposed);
+  glint::WriteOptions reinhard;
+  reinhard.tonemap = glint::ToneMap::reinhard;
+  reinhard.exposure = -1;  // x0.5, then x/(1+x)
+  glint::write_image(image, dir_ / "reinhard.ppm", reinhard);
+  glint::WriteOptions aces;
+  aces.tonemap = glint::ToneMap::aces;
+  glint::write_image(image, dir_ / "aces.ppm", aces);
+  const Bytes ev1 = ppm_codes(dir_ / "ev1.ppm"), rh = ppm_codes(dir_ / "reinhard.ppm"), ac = ppm_codes(dir_ / "aces.ppm");
+  ASSERT_EQ(ev1.size(), image.rgb.size());
+  for (size_t i = 0; i < image.rgb.size(); ++i) {
+    const float x = image.rgb[i];
+    EXPECT_EQ(ev1[i], glint::to_srgb8(2.0f * x)) << i;
+    EXPECT_EQ(rh[i], glint::to_srgb8(0.5f * x / (1.0f + 0.5f * x))) << i;
+    const double d = x;
+    EXPECT_EQ(ac[i], glint::to_srgb8(static_cast<float>(
+                         std::clamp(d * (2.51 * d + 0.03) / (d * (2.43 * d + 0.59) + 0.14), 0.0, 1.0))))
+        << i;
+  }
+  EXPECT_NE(rh, ppm_codes(dir_ / "plain.ppm"));
+
+  // Linear outputs ignore both: the exact floats.
+  glint::write_image(image, dir_ / "x.pfm", reinhard);
+  EXPECT_EQ(glint::read_image(dir_ / "x.pfm").rgb, image.rgb);
+}
+
+TEST_F(ImageIo, DataEncodingSkipsTheSrgbCurve) {
+  Image image(2, 1);
+  image.rgb = {0.0f, 0.5f, 1.0f, 0.2f, -1.0f, 7.0f};
+  glint::WriteOptions data;
+  data.data = true;
+  data.tonemap = glint::ToneMap::aces;  // ignored for data
+  glint::write_image(image, dir_ / "d.ppm", data);
+  EXPECT_EQ(ppm_codes(dir_ / "d.ppm"), (Bytes{0, 128, 255, 51, 0, 255}));
+}
+
+TEST_F(ImageIo, RadianceHdrRoundTripWithinItsPrecision) {
+  // RGBE keeps 8 mantissa bits under a shared exponent 2^e >= the largest
+  // channel, truncating: each channel comes back within 2^e/256 <= largest/128.
+  Image image(37, 11);
+  for (std::size_t i = 0; i < image.rgb.size(); ++i)
+    image.rgb[i] = 0.001f + std::abs(std::sin(static_cast<float>(i))) * (i % 7 == 0 ? 500.0f : 2.0f);
+  image.pixel(0, 0)[0] = image.pixel(0, 0)[1] = image.pixel(0, 0)[2] = 1000.0f;  // marks the top-left
+  const fs::path path = dir_ / "out.hdr";
+  glint::write_image(image, path);
+  EXPECT_EQ(read_text(path).rfind("#?RADIANCE", 0), 0u);
+  const Image back = glint::read_image(path);
+  ASSERT_EQ(back.width, 37);
+  ASSERT_EQ(back.height, 11);
+  for (std::size_t p = 0; p < image.rgb.size(); p += 3) {
+    const float largest = std::max({image.rgb[p], image.rgb[p + 1], image.rgb[p + 2]});
+    for (std::size_t c = 0; c < 3; ++c)
+      ASSERT_NEAR(back.rgb[p + c], image.rgb[p + c], largest / 128.0f) << p << " " << c;
+  }
+  // Orientation: the top-left pixel stays top-left.
+  EXPECT_EQ(back.pixel(0, 0)[1], 1000.0f);  // 1000 = 250 * 4: exact in RGBE
+  // A PNG named .hdr is refused, not reinterpreted.
+  glint::write_image(ldr_test_image(), dir_ / "x.png");
+  fs::rename(dir_ / "x.png", dir_ / "fake.hdr");
+  EXPECT_THROW(glint::read_image(dir_ / "fake.hdr"), glint::Error);
+  EXPECT_EQ(glint::image_format_for_path("a.HDR"), ImageFormat::hdr);
+}
+
+TEST_F(ImageIo, ExrChannelsRoundTripByName) {
+  const Image a = float_test_image();
+  Image b(7, 5);
+  for (std::size_t i = 0; i < b.rgb.size(); ++i) b.rgb[i] = static_cast<float>(i);
+  const fs::path path = dir_ / "layers.exr";
+  glint::write_exr_channels({{"R", &a, 0}, {"G", &a, 1}, {"B", &a, 2}, {"x.Z", &b, 1}}, path);
+  const glint::ExrPlanes planes = glint::read_exr_channels(path);
+  EXPECT_EQ(planes.width, 7);
+  ASSERT_EQ(planes.planes.size(), 4u);
+  EXPECT_EQ(planes.planes.at("x.Z")[3], b.rgb[3 * 3 + 1]);
+  EXPECT_EQ(glint::read_image(path).rgb, a.rgb);  // the R, G, B channels are the image
+  EXPECT_THROW(glint::write_exr_channels({{"R", &a, 0}, {"G", &b, 5}}, dir_ / "bad.exr"), glint::Error);
+  EXPECT_FALSE(fs::exists(dir_ / "bad.exr"));
+}

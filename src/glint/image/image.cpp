@@ -101,8 +101,22 @@ inline std::uint8_t srgb8_with(const Srgb8Table& t, float linear) {
   return static_cast<std::uint8_t>(code);
 }
 
-Bytes srgb8_pixels(const Image& image) {
+// The 8-bit codes of an image: sRGB-encoded light, or data scaled by 255.
+Bytes pixels8(const Image& image, const WriteOptions& options) {
   Bytes out(image.rgb.size());
+  if (!options.data && (options.exposure != 0.0 || options.tonemap != ToneMap::clamp)) {
+    const float scale = static_cast<float>(std::exp2(options.exposure));
+    const Srgb8Table& table = srgb8_table();
+    for (size_t i = 0; i < out.size(); ++i) out[i] = srgb8_with(table, tone_map(image.rgb[i] * scale, options.tonemap));
+    return out;
+  }
+  if (options.data) {
+    for (size_t i = 0; i < out.size(); ++i) {
+      const float v = image.rgb[i];
+      out[i] = !(v > 0.0f) ? 0 : v >= 1.0f ? 255 : static_cast<std::uint8_t>(std::lround(v * 255.0f));
+    }
+    return out;
+  }
   const Srgb8Table& table = srgb8_table();
   for (size_t i = 0; i < out.size(); ++i) out[i] = srgb8_with(table, image.rgb[i]);
   return out;
@@ -110,10 +124,10 @@ Bytes srgb8_pixels(const Image& image) {
 
 void append(Bytes& out, std::string_view text) { out.insert(out.end(), text.begin(), text.end()); }
 
-Bytes encode_ppm(const Image& image) {
+Bytes encode_ppm(const Image& image, const WriteOptions& options) {
   Bytes out;
   append(out, "P6\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n255\n");
-  const Bytes pixels = srgb8_pixels(image);
+  const Bytes pixels = pixels8(image, options);
   out.insert(out.end(), pixels.begin(), pixels.end());
   return out;
 }
@@ -152,8 +166,8 @@ void stb_append(void* context, void* data, int size) noexcept {
   }
 }
 
-Bytes encode_jpg(const Image& image) {
-  const Bytes pixels = srgb8_pixels(image);
+Bytes encode_jpg(const Image& image, const WriteOptions& options) {
+  const Bytes pixels = pixels8(image, options);
   StbSink sink;
   const int ok = stbi_write_jpg_to_func(stb_append, &sink, image.width, image.height, 3, pixels.data(), 95);
   if (sink.failed) throw std::bad_alloc();
@@ -187,8 +201,8 @@ void png_ignore_warning(png_structp, png_const_charp) {}
 
 // libpng at zlib level 1 with the Up filter: measured 7x faster than
 // stb_image_write on a 1080p render, files ~40% larger (see README).
-Bytes encode_png(const Image& image) {
-  const Bytes pixels = srgb8_pixels(image);
+Bytes encode_png(const Image& image, const WriteOptions& options) {
+  const Bytes pixels = pixels8(image, options);
   PngSink sink;
   sink.bytes.reserve(pixels.size() / 4);
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, png_fail, png_ignore_warning);
@@ -232,44 +246,46 @@ struct MallocBytes {
 
 // tinyexr (not OpenEXR): same ZIP compression and file size, bit-exact, 30x
 // smaller dependency; OpenEXR is only faster when its thread pool is used.
-MallocBytes encode_exr(const Image& image) {
-  const std::size_t n = static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
+MallocBytes encode_exr_channels(std::vector<ExrChannel> channels, int width, int height) {
   // tinyexr writes channels in the given order and EXR readers expect them
-  // sorted by name, so the planes go B, G, R.
-  std::array<std::vector<float>, 3> planes;
-  for (auto& plane : planes) plane.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    planes[0][i] = image.rgb[3 * i + 2];
-    planes[1][i] = image.rgb[3 * i + 1];
-    planes[2][i] = image.rgb[3 * i + 0];
-  }
-  std::array<EXRChannelInfo, 3> channels{};
-  const char names[3] = {'B', 'G', 'R'};
-  for (int c = 0; c < 3; ++c) {
-    channels[c].name[0] = names[c];
-    channels[c].x_sampling = channels[c].y_sampling = 1;
+  // sorted by name (R, G, B go B, G, R).
+  std::sort(channels.begin(), channels.end(),
+            [](const ExrChannel& a, const ExrChannel& b) { return std::strcmp(a.name.c_str(), b.name.c_str()) < 0; });
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  const std::size_t count = channels.size();
+  std::vector<std::vector<float>> planes(count);
+  std::vector<EXRChannelInfo> infos(count);
+  for (std::size_t c = 0; c < count; ++c) {
+    const ExrChannel& ch = channels[c];
+    if (!ch.image || ch.image->width != width || ch.image->height != height || ch.component < 0 ||
+        ch.component > 2 || ch.name.empty() || ch.name.size() >= sizeof(infos[c].name))
+      throw std::runtime_error("invalid EXR channel '" + ch.name + "'");
+    planes[c].resize(n);
+    for (std::size_t i = 0; i < n; ++i) planes[c][i] = ch.image->rgb[3 * i + static_cast<std::size_t>(ch.component)];
+    std::memcpy(infos[c].name, ch.name.c_str(), ch.name.size() + 1);
+    infos[c].x_sampling = infos[c].y_sampling = 1;
   }
   // 32-bit float samples, so every value round-trips exactly.
-  std::array<int, 3> pixel_types = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
-  std::array<int, 3> requested_types = pixel_types;
+  std::vector<int> pixel_types(count, TINYEXR_PIXELTYPE_FLOAT);
+  std::vector<int> requested_types = pixel_types;
 
   // The header points at our arrays, so it must not be passed to FreeEXRHeader.
   EXRHeader header;
   InitEXRHeader(&header);
-  header.num_channels = 3;
-  header.channels = channels.data();
+  header.num_channels = static_cast<int>(count);
+  header.channels = infos.data();
   header.pixel_types = pixel_types.data();
   header.requested_pixel_types = requested_types.data();
   header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;  // lossless, OpenEXR's own default
 
-  std::array<unsigned char*, 3> plane_pointers;
-  for (int c = 0; c < 3; ++c) plane_pointers[c] = reinterpret_cast<unsigned char*>(planes[c].data());
+  std::vector<unsigned char*> plane_pointers(count);
+  for (std::size_t c = 0; c < count; ++c) plane_pointers[c] = reinterpret_cast<unsigned char*>(planes[c].data());
   EXRImage exr;
   InitEXRImage(&exr);
   exr.images = plane_pointers.data();
-  exr.num_channels = 3;
-  exr.width = image.width;
-  exr.height = image.height;
+  exr.num_channels = static_cast<int>(count);
+  exr.width = width;
+  exr.height = height;
 
   unsigned char* memory = nullptr;
   const char* raw_error = nullptr;
@@ -281,6 +297,18 @@ MallocBytes encode_exr(const Image& image) {
     throw std::runtime_error(std::string("EXR encoding failed") + (error ? ": " + std::string(error.get()) : ""));
   }
   return out;
+}
+
+MallocBytes encode_exr(const Image& image) {
+  return encode_exr_channels({{"R", &image, 0}, {"G", &image, 1}, {"B", &image, 2}}, image.width, image.height);
+}
+
+Bytes encode_hdr(const Image& image) {
+  StbSink sink;
+  const int ok = stbi_write_hdr_to_func(stb_append, &sink, image.width, image.height, 3, image.rgb.data());
+  if (sink.failed) throw std::bad_alloc();
+  if (!ok || sink.bytes.empty()) throw std::runtime_error("Radiance HDR encoding failed");
+  return std::move(sink.bytes);
 }
 
 // --- decoders ---------------------------------------------------------------
@@ -416,7 +444,9 @@ Image decode_stb(const fs::path& path, const Bytes& bytes) {
   return image;
 }
 
-Image decode_exr(const fs::path& path, const Bytes& bytes) {
+// Every float (or half, widened exactly) channel of a scanline EXR; UINT
+// channels are listed in `uint_channels` and not loaded as floats.
+ExrPlanes decode_exr_planes(const fs::path& path, const Bytes& bytes, std::vector<std::string>* uint_channels) {
   EXRVersion version;
   if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS) {
     fail_read(path, "not an OpenEXR file");
@@ -435,22 +465,11 @@ Image decode_exr(const fs::path& path, const Bytes& bytes) {
     fail_read(path, std::string("corrupt EXR header") + (error ? ": " + std::string(error.get()) : ""));
   }
   if (header.tiled) fail_read(path, "tiled EXR files are not supported");
-
-  int index[3] = {-1, -1, -1};
   for (int c = 0; c < header.num_channels; ++c) {
     const EXRChannelInfo& channel = header.channels[c];
-    const int slot = std::strcmp(channel.name, "R") == 0   ? 0
-                     : std::strcmp(channel.name, "G") == 0 ? 1
-                     : std::strcmp(channel.name, "B") == 0 ? 2
-                                                           : -1;
-    if (slot < 0) continue;  // e.g. A: ignored
-    if (header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT) fail_read(path, "EXR channel R/G/B is UINT, not float");
     if (channel.x_sampling != 1 || channel.y_sampling != 1) fail_read(path, "subsampled EXR channels are not supported");
-    index[slot] = c;
-  }
-  if (index[0] < 0 || index[1] < 0 || index[2] < 0) fail_read(path, "EXR file has no R, G and B channels");
-  // Half channels widen to float exactly.
-  for (int c = 0; c < header.num_channels; ++c) {
+    if (header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT && uint_channels) uint_channels->push_back(channel.name);
+    // Half channels widen to float exactly.
     if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
   }
 
@@ -466,12 +485,52 @@ Image decode_exr(const fs::path& path, const Bytes& bytes) {
   }
   const EXRImage& exr = loaded.image;
   if (!valid_size(exr.width, exr.height) || !exr.images) fail_read(path, "invalid EXR size");
-  Image image(exr.width, exr.height);
+  ExrPlanes out;
+  out.width = exr.width;
+  out.height = exr.height;
   const std::size_t n = static_cast<std::size_t>(exr.width) * static_cast<std::size_t>(exr.height);
-  for (int c = 0; c < 3; ++c) {
-    const auto* plane = reinterpret_cast<const float*>(exr.images[index[c]]);
-    for (std::size_t i = 0; i < n; ++i) image.rgb[3 * i + static_cast<std::size_t>(c)] = plane[i];
+  for (int c = 0; c < header.num_channels; ++c) {
+    if (header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT) continue;
+    const auto* plane = reinterpret_cast<const float*>(exr.images[c]);
+    out.planes[header.channels[c].name].assign(plane, plane + n);
   }
+  return out;
+}
+
+Image decode_hdr(const fs::path& path, const Bytes& bytes) {
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) fail_read(path, "file too large");
+  const int size = static_cast<int>(bytes.size());
+  // stbi_loadf would also take a PNG and undo a gamma it guesses: only real
+  // Radiance files are read here.
+  if (!stbi_is_hdr_from_memory(bytes.data(), size)) fail_read(path, "not a Radiance HDR file");
+  int w = 0, h = 0, file_channels = 0;
+  struct StbiDeleter {
+    void operator()(float* p) const { stbi_image_free(p); }
+  };
+  const std::unique_ptr<float, StbiDeleter> pixels(stbi_loadf_from_memory(bytes.data(), size, &w, &h, &file_channels, 3));
+  if (!pixels) {
+    const char* reason = stbi_failure_reason();
+    fail_read(path, std::string("corrupt image: ") + (reason ? reason : "unknown error"));
+  }
+  if (!valid_size(w, h)) fail_read(path, "invalid image size " + std::to_string(w) + "x" + std::to_string(h));
+  Image image(w, h);
+  std::copy(pixels.get(), pixels.get() + image.rgb.size(), image.rgb.begin());
+  return image;
+}
+
+Image decode_exr(const fs::path& path, const Bytes& bytes) {
+  std::vector<std::string> uint_channels;
+  const ExrPlanes exr = decode_exr_planes(path, bytes, &uint_channels);
+  for (const std::string& name : uint_channels)
+    if (name == "R" || name == "G" || name == "B") fail_read(path, "EXR channel R/G/B is UINT, not float");
+  const auto r = exr.planes.find("R"), g = exr.planes.find("G"), b = exr.planes.find("B");
+  if (r == exr.planes.end() || g == exr.planes.end() || b == exr.planes.end())
+    fail_read(path, "EXR file has no R, G and B channels");
+  Image image(exr.width, exr.height);
+  const std::array<const std::vector<float>*, 3> planes = {&r->second, &g->second, &b->second};
+  const std::size_t n = static_cast<std::size_t>(exr.width) * static_cast<std::size_t>(exr.height);
+  for (std::size_t c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < n; ++i) image.rgb[3 * i + c] = (*planes[c])[i];
   return image;
 }
 
@@ -503,10 +562,26 @@ std::optional<ImageFormat> image_format_for_path(const fs::path& path) {
   if (ext == ".ppm") return ImageFormat::ppm;
   if (ext == ".pfm") return ImageFormat::pfm;
   if (ext == ".exr") return ImageFormat::exr;
+  if (ext == ".hdr") return ImageFormat::hdr;
   return std::nullopt;
 }
 
-std::string_view supported_image_extensions() { return ".png, .jpg, .ppm, .pfm, .exr"; }
+std::string_view supported_image_extensions() { return ".png, .jpg, .ppm, .pfm, .exr, .hdr"; }
+
+float tone_map(float linear, ToneMap map) {
+  if (!(linear > 0.0f)) return 0.0f;  // also NaN
+  const double x = linear;
+  switch (map) {
+    case ToneMap::clamp:
+      return std::min(linear, 1.0f);
+    case ToneMap::reinhard:
+      return std::isinf(x) ? 1.0f : static_cast<float>(x / (1.0 + x));
+    case ToneMap::aces:
+      if (std::isinf(x)) return 1.0f;
+      return static_cast<float>(std::clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0));
+  }
+  return 0.0f;
+}
 
 float srgb_encode(float linear) {
   if (!(linear > 0.0f)) return 0.0f;  // also NaN
@@ -524,7 +599,11 @@ float srgb_decode(float encoded) {
 
 std::uint8_t to_srgb8(float linear) { return srgb8_with(srgb8_table(), linear); }
 
-void write_image(const Image& image, const fs::path& path) {
+bool is_8bit_format(ImageFormat format) {
+  return format == ImageFormat::png || format == ImageFormat::jpg || format == ImageFormat::ppm;
+}
+
+void write_image(const Image& image, const fs::path& path, const WriteOptions& options) {
   try {
     const auto format = image_format_for_path(path);
     if (!format) fail_write(path, unsupported_extension_reason(path));
@@ -543,22 +622,25 @@ void write_image(const Image& image, const fs::path& path) {
 
     switch (*format) {
       case ImageFormat::ppm:
-        write_file_atomically(path, encode_ppm(image));
+        write_file_atomically(path, encode_ppm(image, options));
         break;
       case ImageFormat::pfm:
         write_file_atomically(path, encode_pfm(image));
         break;
       case ImageFormat::png:
-        write_file_atomically(path, encode_png(image));
+        write_file_atomically(path, encode_png(image, options));
         break;
       case ImageFormat::jpg:
-        write_file_atomically(path, encode_jpg(image));
+        write_file_atomically(path, encode_jpg(image, options));
         break;
       case ImageFormat::exr: {
         const MallocBytes exr = encode_exr(image);
         write_file_atomically(path, {exr.data.get(), exr.size});
         break;
       }
+      case ImageFormat::hdr:
+        write_file_atomically(path, encode_hdr(image));
+        break;
     }
   } catch (const Error&) {
     throw;
@@ -566,6 +648,36 @@ void write_image(const Image& image, const fs::path& path) {
     fail_write(path, "out of memory");
   } catch (const std::exception& e) {
     fail_write(path, e.what());
+  }
+}
+
+void write_exr_channels(const std::vector<ExrChannel>& channels, const fs::path& path) {
+  try {
+    if (channels.empty() || !channels[0].image) fail_write(path, "no channels");
+    const Image& first = *channels[0].image;
+    if (!valid_size(first.width, first.height)) fail_write(path, "invalid image size");
+    const MallocBytes exr = encode_exr_channels(channels, first.width, first.height);
+    write_file_atomically(path, {exr.data.get(), exr.size});
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    fail_write(path, "out of memory");
+  } catch (const std::exception& e) {
+    fail_write(path, e.what());
+  }
+}
+
+ExrPlanes read_exr_channels(const fs::path& path) {
+  try {
+    const Bytes bytes = read_file(path);
+    if (bytes.empty()) fail_read(path, "the file is empty");
+    return decode_exr_planes(path, bytes, nullptr);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    fail_read(path, "out of memory");
+  } catch (const std::exception& e) {
+    fail_read(path, e.what());
   }
 }
 
@@ -585,6 +697,8 @@ Image read_image(const fs::path& path) {
         return decode_stb(path, bytes);
       case ImageFormat::exr:
         return decode_exr(path, bytes);
+      case ImageFormat::hdr:
+        return decode_hdr(path, bytes);
     }
     fail_read(path, "unknown image format");
   } catch (const Error&) {

@@ -132,6 +132,26 @@ Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrac
   return color;
 }
 
+CameraSample Integrator::cast_camera_ray(const Ray& ray, TraceContext& ctx) const {
+  CameraSample out;
+  const std::optional<Hit> hit = accel_.intersect(ray);
+  if (!hit) {
+    // The background is the whole of a missed pixel; it goes to `ambient` so
+    // the five color passes still sum to the image.
+    out.terms.ambient = scene_.render.background;
+    return out;
+  }
+  out.terms = shade_surface(ray, *hit, 1, ctx);
+  // Evaluated again (cheap, no random numbers) rather than widening
+  // shade_surface's interface for the camera ray alone.
+  const SurfacePoint sp = evaluate_hit(scene_, ray, *hit);
+  const bool facing = dot(sp.shading_normal, normalize(ray.direction)) < 0.0;  // shade_surface's test
+  out.normal = facing ? sp.shading_normal : -sp.shading_normal;
+  out.depth = hit->t * length(ray.direction);
+  out.albedo = scene_.materials[sp.material].diffuse;
+  return out;
+}
+
 namespace {
 
 // Schlick's approximation of the Fresnel reflectance, per color channel.

@@ -48,6 +48,15 @@ struct ShadeTerms {
   Color sum() const { return ambient + diffuse + specular + reflection + transmission; }
 };
 
+// A camera ray's color by its parts, with the facts of its first hit: what
+// the passes (AOVs) store. terms.sum() is bit for bit cast_ray's color.
+struct CameraSample {
+  ShadeTerms terms;   // a miss puts the background in `ambient`
+  Vec3 normal;        // shading normal as used (turned toward the ray); 0 on a miss
+  double depth = 0;   // distance along the ray to the first hit; 0 on a miss
+  Color albedo;       // R_d at the first hit; 0 on a miss
+};
+
 // Per-thread state a ray needs: random numbers (area lights) and counters.
 struct TraceContext {
   Rng rng;
@@ -89,6 +98,8 @@ class Integrator {
   Color cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace* trace = nullptr) const;
   ShadeTerms shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx,
                            RayTrace* trace = nullptr) const;
+  // cast_ray for a camera ray (depth 1), keeping the parts apart.
+  CameraSample cast_camera_ray(const Ray& ray, TraceContext& ctx) const;
 
   double epsilon() const { return epsilon_; }
 

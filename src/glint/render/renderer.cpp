@@ -1,6 +1,7 @@
 #include "glint/render/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -30,28 +31,88 @@ void stratified_grid(int samples, int& nx, int& ny) {
 
 namespace {
 
-Color render_pixel_with(const Integrator& integrator, const Scene& scene, const CameraFrame& frame,
-                        int x, int y, TraceContext& ctx) {
+// One pixel's sums: the image's and, when passes are asked for, every pass's,
+// each added with the same sample weights.
+struct PixelSums {
+  Color color;
+  std::array<Color, kPassCount> passes{};
+};
+
+// Adds one camera sample of weight `w` to `sums`. The pass path's color is
+// CameraSample::terms.sum(), bit for bit cast_ray's.
+template <bool kWithPasses>
+void add_camera_sample(const Integrator& integrator, const Ray& ray, double w, TraceContext& ctx, PixelSums& sums) {
+  ctx.stats.camera++;
+  if constexpr (!kWithPasses) {
+    sums.color += w * integrator.cast_ray(ray, 1, ctx);
+  } else {
+    const CameraSample s = integrator.cast_camera_ray(ray, ctx);
+    sums.color += w * s.terms.sum();
+    auto add = [&](Pass p, const Color& c) { sums.passes[static_cast<size_t>(p)] += w * c; };
+    add(Pass::ambient, s.terms.ambient);
+    add(Pass::diffuse, s.terms.diffuse);
+    add(Pass::specular, s.terms.specular);
+    add(Pass::reflection, s.terms.reflection);
+    add(Pass::transmission, s.terms.transmission);
+    add(Pass::normal, s.normal);
+    add(Pass::depth, Color(s.depth));
+    add(Pass::albedo, s.albedo);
+  }
+}
+
+// The pixel's samples, summed into `sums`; returns the divisor that turns the
+// sums into the pixel's values.
+template <bool kWithPasses>
+double sum_pixel_samples(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
+                         TraceContext& ctx, PixelSums& sums) {
   const int w = scene.render.width, h = scene.render.height;
   const int spp = scene.render.samples_per_pixel;
   ctx.rng = pixel_rng(x, y);
   if (spp == 1) {
-    ctx.stats.camera++;
-    const Ray ray = generate_camera_ray(frame, (x + 0.5) / w, (y + 0.5) / h);
-    return integrator.cast_ray(ray, 1, ctx);
+    add_camera_sample<kWithPasses>(integrator, generate_camera_ray(frame, (x + 0.5) / w, (y + 0.5) / h), 1.0, ctx,
+                                   sums);
+    return 1.0;
   }
   int nx, ny;
   stratified_grid(spp, nx, ny);
-  Color sum(0.0);
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
       const double u = (x + (i + ctx.rng.next_double()) / nx) / w;
       const double v = (y + (j + ctx.rng.next_double()) / ny) / h;
-      ctx.stats.camera++;
-      sum += integrator.cast_ray(generate_camera_ray(frame, u, v), 1, ctx);
+      add_camera_sample<kWithPasses>(integrator, generate_camera_ray(frame, u, v), 1.0, ctx, sums);
     }
   }
-  return sum / spp;
+  return spp;
+}
+
+// Weight 1 and a division by spp: the box filter's average, as it always was
+// (x * 1.0 and x / 1.0 are exact, so spp 1 is the center ray's color itself).
+Color render_pixel_with(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
+                        TraceContext& ctx) {
+  PixelSums sums;
+  const double divisor = sum_pixel_samples<false>(integrator, scene, frame, x, y, ctx, sums);
+  return sums.color / divisor;
+}
+
+void store(Image& image, int x, int y, const Color& c) {
+  float* px = image.pixel(x, y);
+  px[0] = static_cast<float>(c.x);
+  px[1] = static_cast<float>(c.y);
+  px[2] = static_cast<float>(c.z);
+}
+
+// The pixel and its passes, stored.
+void render_pixel_into(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
+                       TraceContext& ctx, Image& image, PassImages* passes) {
+  if (!passes || passes->empty()) {
+    store(image, x, y, render_pixel_with(integrator, scene, frame, x, y, ctx));
+    return;
+  }
+  PixelSums sums;
+  const double divisor = sum_pixel_samples<true>(integrator, scene, frame, x, y, ctx, sums);
+  store(image, x, y, sums.color / divisor);
+  for (size_t i = 0; i < passes->passes.size(); ++i)
+    store(passes->images[i], x, y, sums.passes[static_cast<size_t>(passes->passes[i])] / divisor);
 }
 
 }  // namespace
@@ -80,7 +141,7 @@ Image render_image(const Scene& scene, const Accelerator& accel, const RenderOpt
 }
 
 bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, TileProgress& progress,
-                  const RenderOptions& options, RenderStats* stats) {
+                  const RenderOptions& options, RenderStats* stats, PassImages* passes) {
   const auto start = std::chrono::steady_clock::now();
   const int w = scene.render.width, h = scene.render.height;
   const Integrator integrator(scene, accel);
@@ -107,13 +168,7 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
       const int x1 = std::min(x0 + tile, w), y1 = std::min(y0 + tile, h);
       bool complete = !cancelled();
       for (int y = y0; y < y1 && complete; ++y) {
-        for (int x = x0; x < x1; ++x) {
-          const Color c = render_pixel_with(integrator, scene, frame, x, y, ctx);
-          float* px = image.pixel(x, y);
-          px[0] = static_cast<float>(c.x);
-          px[1] = static_cast<float>(c.y);
-          px[2] = static_cast<float>(c.z);
-        }
+        for (int x = x0; x < x1; ++x) render_pixel_into(integrator, scene, frame, x, y, ctx, image, passes);
         complete = !cancelled() || y + 1 == y1;
       }
       // Each worker writes only its own tiles' flags: no two threads share one.

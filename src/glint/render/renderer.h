@@ -11,6 +11,7 @@
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
 #include "glint/render/integrator.h"
+#include "glint/render/passes.h"
 
 namespace glint {
 
@@ -52,9 +53,10 @@ Image render_image(const Scene& scene, const Accelerator& accel, const RenderOpt
 // Renders the tiles of `image` not yet marked in `progress` (tile size taken
 // from it), marking each one as it completes. Returns progress.complete().
 // A resumed render gives the same bytes as an uninterrupted one: pixels
-// depend only on their coordinates.
+// depend only on their coordinates. With `passes`, fills its images too
+// (same samples, same weights; the image itself is unchanged by it).
 bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, TileProgress& progress,
-                  const RenderOptions& options = {}, RenderStats* stats = nullptr);
+                  const RenderOptions& options = {}, RenderStats* stats = nullptr, PassImages* passes = nullptr);
 
 // Paints the pixels of unfinished tiles with the background color.
 void fill_unfinished_tiles(Image& image, const TileProgress& progress, const Color& background);

@@ -10,7 +10,9 @@ namespace glint {
 
 namespace {
 
-constexpr char kMagic[] = "GLINT-RESUME-1\n";  // 15 bytes + NUL, the NUL not stored
+// Version 2 adds the passes after the image; version 1 files (no passes) are still read.
+constexpr char kMagic[] = "GLINT-RESUME-2\n";  // 15 bytes + NUL, the NUL not stored
+constexpr char kMagicV1[] = "GLINT-RESUME-1\n";
 constexpr size_t kMagicSize = sizeof(kMagic) - 1;
 
 uint64_t fnv1a(uint64_t h, const void* data, size_t size) {
@@ -76,8 +78,14 @@ void write_resume_file(const std::filesystem::path& path, const ResumeState& sta
                             state.progress.tiles_x, state.progress.tiles_y};
   for (int32_t v : header) put(out, v);
   out.insert(out.end(), state.progress.done.begin(), state.progress.done.end());
-  const auto* pixels = reinterpret_cast<const unsigned char*>(state.image.rgb.data());
-  out.insert(out.end(), pixels, pixels + state.image.rgb.size() * sizeof(float));
+  auto put_pixels = [&out](const Image& image) {
+    const auto* pixels = reinterpret_cast<const unsigned char*>(image.rgb.data());
+    out.insert(out.end(), pixels, pixels + image.rgb.size() * sizeof(float));
+  };
+  put_pixels(state.image);
+  put(out, static_cast<int32_t>(state.passes.passes.size()));
+  for (Pass p : state.passes.passes) put(out, static_cast<int32_t>(p));
+  for (const Image& image : state.passes.images) put_pixels(image);
   write_file_atomically(path, out);
 }
 
@@ -88,7 +96,8 @@ std::optional<ResumeState> read_resume_file(const std::filesystem::path& path) {
   Reader in(bytes, path);
   char magic[kMagicSize];
   in.read(magic, kMagicSize);
-  if (std::memcmp(magic, kMagic, kMagicSize) != 0) in.fail("wrong signature");
+  const bool v1 = std::memcmp(magic, kMagicV1, kMagicSize) == 0;
+  if (!v1 && std::memcmp(magic, kMagic, kMagicSize) != 0) in.fail("wrong signature");
   ResumeState state;
   state.key = in.get<uint64_t>();
   const int32_t width = in.get<int32_t>(), height = in.get<int32_t>(), tile = in.get<int32_t>();
@@ -98,12 +107,28 @@ std::optional<ResumeState> read_resume_file(const std::filesystem::path& path) {
   state.progress = TileProgress(width, height, tile);
   if (state.progress.tiles_x != tiles_x || state.progress.tiles_y != tiles_y) in.fail("tile counts do not match");
   const size_t pixel_bytes = 3 * sizeof(float) * static_cast<size_t>(width) * static_cast<size_t>(height);
-  if (bytes.size() != kMagicSize + 8 + 20 + state.progress.done.size() + pixel_bytes) in.fail("wrong size");
+  const size_t head_bytes = kMagicSize + 8 + 20 + state.progress.done.size();
+  if (v1 && bytes.size() != head_bytes + pixel_bytes) in.fail("wrong size");
   in.read(state.progress.done.data(), state.progress.done.size());
   for (uint8_t d : state.progress.done)
     if (d > 1) in.fail("bad tile flag");
   state.image = Image(width, height);
   in.read(state.image.rgb.data(), pixel_bytes);
+  if (!v1) {
+    const int32_t pass_count = in.get<int32_t>();
+    if (pass_count < 0 || pass_count > kPassCount) in.fail("bad pass count");
+    std::vector<Pass> passes;
+    for (int32_t i = 0; i < pass_count; ++i) {
+      const int32_t p = in.get<int32_t>();
+      if (p < 0 || p >= kPassCount) in.fail("bad pass");
+      passes.push_back(static_cast<Pass>(p));
+    }
+    // Checked before allocating, so a corrupt count cannot ask for too much.
+    if (bytes.size() != head_bytes + pixel_bytes + 4 + 4 * passes.size() + pixel_bytes * passes.size())
+      in.fail("wrong size");
+    state.passes = PassImages(std::move(passes), width, height);
+    for (Image& image : state.passes.images) in.read(image.rgb.data(), pixel_bytes);
+  }
   if (!in.at_end()) in.fail("trailing bytes");
   return state;
 }

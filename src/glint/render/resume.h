@@ -10,6 +10,7 @@
 #include <span>
 
 #include "glint/image/image.h"
+#include "glint/render/passes.h"
 #include "glint/render/renderer.h"
 #include "glint/scene/scene.h"
 
@@ -19,6 +20,7 @@ struct ResumeState {
   uint64_t key = 0;
   TileProgress progress;
   Image image;
+  PassImages passes;  // the passes' finished tiles, when the render has passes
 };
 
 // FNV-1a over the scene file's bytes and the settings that shape the pixels.
