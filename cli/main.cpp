@@ -46,6 +46,9 @@ struct RenderArgs {
   bool passes_layered = false;
   std::optional<double> exposure;
   std::optional<std::string> tonemap;
+  std::optional<std::string> pixel_filter;
+  std::optional<int> adaptive_max_spp;
+  std::optional<double> adaptive_threshold;
 };
 
 // Set by SIGINT/SIGTERM: the render stops, writes what it has and a resume
@@ -280,6 +283,9 @@ void write_outputs(const glint::Image& image, const glint::PassImages& passes, c
 int run_render(const RenderArgs& args) {
   using namespace glint;
   const auto start = std::chrono::steady_clock::now();
+  // From the start: a signal while the scene loads stops the render before
+  // its first tile (and still leaves a resume file), rather than killing glint.
+  install_interrupt_handlers();
   const std::filesystem::path output(args.output_path);
   if (!image_format_for_path(output))
     throw Error(args.output_path + ": unsupported output format (supported: " +
@@ -318,6 +324,21 @@ int run_render(const RenderArgs& args) {
   if (args.max_depth) r.max_depth = *args.max_depth;
   if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
   if (args.width || args.height) check_image_size(r.width, r.height, SourceLocation{});
+  if (args.pixel_filter) {
+    // A named filter with its default parameters, replacing the scene's.
+    r.pixel_filter = PixelFilter{};
+    if (*args.pixel_filter == "gaussian") r.pixel_filter = {FilterType::gaussian, kGaussianRadius};
+    if (*args.pixel_filter == "mitchell") r.pixel_filter = {FilterType::mitchell, kMitchellRadius};
+  }
+  if (args.adaptive_max_spp || args.adaptive_threshold) {
+    AdaptiveSampling a = r.adaptive.value_or(AdaptiveSampling{});
+    if (args.adaptive_max_spp) a.max_samples_per_pixel = *args.adaptive_max_spp;
+    if (args.adaptive_threshold) a.threshold = *args.adaptive_threshold;
+    r.adaptive = a;
+  }
+  if (r.adaptive && r.adaptive->max_samples_per_pixel < r.samples_per_pixel)
+    throw Error("adaptive sampling: the most samples per pixel (" + std::to_string(r.adaptive->max_samples_per_pixel) +
+                ") is below samples_per_pixel (" + std::to_string(r.samples_per_pixel) + ")");
 
   // The resume key covers the scene file and the settings that shape pixels.
   const std::filesystem::path resume_path = resume_path_for(output);
@@ -353,7 +374,6 @@ int run_render(const RenderArgs& args) {
   ProgressBar bar;
   if (!args.quiet && isatty(STDERR_FILENO)) options.progress = [&bar](double f) { bar.update(f); };
   RenderStats stats;
-  install_interrupt_handlers();
   const bool complete = render_tiles(scene, *accel, image, tiles, options, &stats, &passes);
   if (!complete) {
     // Interrupted: keep the finished tiles (the rest is background) and what
@@ -414,6 +434,14 @@ int main(int argc, char** argv) {
       ->check(number_in(-64, 64));
   render->add_option("--tonemap", args.tonemap, "8-bit outputs: clamp (default), reinhard or aces")
       ->check(one_of({"clamp", "reinhard", "aces"}, "tone map"));
+  render->add_option("--pixel-filter", args.pixel_filter, "box (default), gaussian or mitchell")
+      ->check(one_of({"box", "gaussian", "mitchell"}, "pixel filter"));
+  render->add_option("--adaptive-max-spp", args.adaptive_max_spp,
+                     "adaptive sampling: re-render pixels that differ from a neighbour at this many samples")
+      ->check(whole_number_in(1, glint::kMaxSamplesPerPixel));
+  render->add_option("--adaptive-threshold", args.adaptive_threshold,
+                     "adaptive sampling: largest neighbour difference (linear, any channel) left alone (default 0.05)")
+      ->check(number_in(0, 1e30));
   render->add_option("--passes", args.passes,
                      "extra images beside the output (OUT.<pass>.<ext>): comma-separated ambient, diffuse, specular, "
                      "reflection, transmission, normal, depth, albedo, or all");

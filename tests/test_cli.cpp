@@ -629,6 +629,20 @@ TEST_F(CliToneMap, Errors) {
   expect_failure("render scene.json -o {out} --exposure 65", "between -64 and 64");
 }
 
+TEST_F(CliOptions, PixelFilterOverridesTheScene) {
+  for (const auto& [name, type, radius] :
+       {std::tuple{"gaussian", glint::FilterType::gaussian, glint::kGaussianRadius},
+        std::tuple{"mitchell", glint::FilterType::mitchell, glint::kMitchellRadius}}) {
+    SCOPED_TRACE(name);
+    const glint::Image got = render(std::string(name) + ".pfm", std::string("--spp 4 --pixel-filter ") + name);
+    EXPECT_TRUE(same_pixels(got, library_render(path("scene.json"), [&](glint::Scene& s) {
+                  s.render.samples_per_pixel = 4;
+                  s.render.pixel_filter = {type, radius};
+                })));
+  }
+  expect_failure("render scene.json -o {out} --pixel-filter gausian", "did you mean \"gaussian\"");
+}
+
 }  // namespace
 
 // --- explain -----------------------------------------------------------------

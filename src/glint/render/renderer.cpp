@@ -7,9 +7,11 @@
 #include <condition_variable>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "glint/render/camera.h"
+#include "glint/render/filter.h"
 
 namespace glint {
 
@@ -60,37 +62,59 @@ void add_camera_sample(const Integrator& integrator, const Ray& ray, double w, T
   }
 }
 
-// The pixel's samples, summed into `sums`; returns the divisor that turns the
-// sums into the pixel's values.
+// What every pixel of one render shares: the camera and the filter's table.
+struct PixelContext {
+  const Integrator& integrator;
+  const Scene& scene;
+  CameraFrame frame;
+  std::optional<FilterSampler> filter;  // none for the box filter
+};
+
+// The pixel's `spp` samples, summed into `sums`; returns the divisor that
+// turns the sums into the pixel's values.
 template <bool kWithPasses>
-double sum_pixel_samples(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
-                         TraceContext& ctx, PixelSums& sums) {
-  const int w = scene.render.width, h = scene.render.height;
-  const int spp = scene.render.samples_per_pixel;
+double sum_pixel_samples(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx, PixelSums& sums) {
+  const int w = pc.scene.render.width, h = pc.scene.render.height;
   ctx.rng = pixel_rng(x, y);
-  if (spp == 1) {
-    add_camera_sample<kWithPasses>(integrator, generate_camera_ray(frame, (x + 0.5) / w, (y + 0.5) / h), 1.0, ctx,
-                                   sums);
+  if (spp == 1) {  // the contract's center ray, whatever the filter
+    add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, (x + 0.5) / w, (y + 0.5) / h), 1.0,
+                                   ctx, sums);
     return 1.0;
   }
   int nx, ny;
   stratified_grid(spp, nx, ny);
+  if (!pc.filter) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        const double u = (x + (i + ctx.rng.next_double()) / nx) / w;
+        const double v = (y + (j + ctx.rng.next_double()) / ny) / h;
+        add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, u, v), 1.0, ctx, sums);
+      }
+    }
+    return spp;
+  }
+  // The same stratified grid, mapped through the filter's inverse CDF.
+  double weight_sum = 0;
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
-      const double u = (x + (i + ctx.rng.next_double()) / nx) / w;
-      const double v = (y + (j + ctx.rng.next_double()) / ny) / h;
-      add_camera_sample<kWithPasses>(integrator, generate_camera_ray(frame, u, v), 1.0, ctx, sums);
+      const double su = (i + ctx.rng.next_double()) / nx;
+      const double sv = (j + ctx.rng.next_double()) / ny;
+      const FilterSample fs = pc.filter->sample(su, sv);
+      const double u = (x + 0.5 + fs.dx) / w, v = (y + 0.5 + fs.dy) / h;
+      add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, u, v), fs.weight, ctx, sums);
+      weight_sum += fs.weight;
     }
   }
-  return spp;
+  // pbrt-v4's normalization (sum of weights), so a flat region stays flat.
+  // Mitchell's signed weights could cancel exactly: then the plain mean.
+  return weight_sum != 0.0 ? weight_sum : spp;
 }
 
 // Weight 1 and a division by spp: the box filter's average, as it always was
 // (x * 1.0 and x / 1.0 are exact, so spp 1 is the center ray's color itself).
-Color render_pixel_with(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
-                        TraceContext& ctx) {
+Color render_pixel_with(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx) {
   PixelSums sums;
-  const double divisor = sum_pixel_samples<false>(integrator, scene, frame, x, y, ctx, sums);
+  const double divisor = sum_pixel_samples<false>(pc, x, y, spp, ctx, sums);
   return sums.color / divisor;
 }
 
@@ -102,24 +126,30 @@ void store(Image& image, int x, int y, const Color& c) {
 }
 
 // The pixel and its passes, stored.
-void render_pixel_into(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
-                       TraceContext& ctx, Image& image, PassImages* passes) {
+void render_pixel_into(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx, Image& image,
+                       PassImages* passes) {
   if (!passes || passes->empty()) {
-    store(image, x, y, render_pixel_with(integrator, scene, frame, x, y, ctx));
+    store(image, x, y, render_pixel_with(pc, x, y, spp, ctx));
     return;
   }
   PixelSums sums;
-  const double divisor = sum_pixel_samples<true>(integrator, scene, frame, x, y, ctx, sums);
+  const double divisor = sum_pixel_samples<true>(pc, x, y, spp, ctx, sums);
   store(image, x, y, sums.color / divisor);
   for (size_t i = 0; i < passes->passes.size(); ++i)
     store(passes->images[i], x, y, sums.passes[static_cast<size_t>(passes->passes[i])] / divisor);
 }
 
+PixelContext make_pixel_context(const Integrator& integrator, const Scene& scene) {
+  PixelContext pc{integrator, scene, make_camera_frame(scene.camera, scene.render.width, scene.render.height), {}};
+  if (scene.render.pixel_filter.type != FilterType::box) pc.filter.emplace(scene.render.pixel_filter);
+  return pc;
+}
+
 }  // namespace
 
 Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int y, TraceContext& ctx) {
-  const CameraFrame frame = make_camera_frame(scene.camera, scene.render.width, scene.render.height);
-  return render_pixel_with(integrator, scene, frame, x, y, ctx);
+  const PixelContext pc = make_pixel_context(integrator, scene);
+  return render_pixel_with(pc, x, y, scene.render.samples_per_pixel, ctx);
 }
 
 TileProgress::TileProgress(int width, int height, int tile)
@@ -145,7 +175,7 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
   const auto start = std::chrono::steady_clock::now();
   const int w = scene.render.width, h = scene.render.height;
   const Integrator integrator(scene, accel);
-  const CameraFrame frame = make_camera_frame(scene.camera, w, h);
+  const PixelContext pc = make_pixel_context(integrator, scene);
 
   const int tile = progress.tile_size;
   std::vector<int> todo;
@@ -168,7 +198,8 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
       const int x1 = std::min(x0 + tile, w), y1 = std::min(y0 + tile, h);
       bool complete = !cancelled();
       for (int y = y0; y < y1 && complete; ++y) {
-        for (int x = x0; x < x1; ++x) render_pixel_into(integrator, scene, frame, x, y, ctx, image, passes);
+        for (int x = x0; x < x1; ++x)
+          render_pixel_into(pc, x, y, scene.render.samples_per_pixel, ctx, image, passes);
         complete = !cancelled() || y + 1 == y1;
       }
       // Each worker writes only its own tiles' flags: no two threads share one.

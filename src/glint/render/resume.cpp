@@ -64,7 +64,19 @@ uint64_t resume_key(std::span<const unsigned char> scene_bytes, const RenderSett
   h = fnv1a(h, scene_bytes.data(), scene_bytes.size());
   const int32_t fields[] = {s.width, s.height, s.samples_per_pixel, s.max_depth,
                             s.shading_model == ShadingModel::phong ? 0 : 1};
-  return fnv1a(h, fields, sizeof fields);
+  h = fnv1a(h, fields, sizeof fields);
+  // The filter and adaptive sampling (command-line overrides of the scene)
+  // only when not the defaults, so keys of older files stay what they were.
+  const PixelFilter& f = s.pixel_filter;
+  if (f.type != FilterType::box) {
+    const double filter[] = {static_cast<double>(f.type), f.radius, f.sigma, f.b, f.c};
+    h = fnv1a(h, filter, sizeof filter);
+  }
+  if (s.adaptive) {
+    const double adaptive[] = {static_cast<double>(s.adaptive->max_samples_per_pixel), s.adaptive->threshold};
+    h = fnv1a(h, adaptive, sizeof adaptive);
+  }
+  return h;
 }
 
 std::filesystem::path resume_path_for(const std::filesystem::path& output) {
