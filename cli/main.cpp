@@ -406,6 +406,11 @@ int run_render(const RenderArgs& args) {
                  stats.seconds, total, format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
                  format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
                  stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
+    if (r.adaptive)
+      std::fprintf(stderr, "glint: adaptive: %zu of %zu pixels (%.1f%%) rendered again at %d spp\n",
+                   stats.refined_pixels, tiles.refine.size(),
+                   tiles.refine.empty() ? 0.0 : 100.0 * static_cast<double>(stats.refined_pixels) / tiles.refine.size(),
+                   r.adaptive->max_samples_per_pixel);
   }
   return 0;
 }
