@@ -227,7 +227,11 @@ int run_info(const std::string& scene_path) {
                              scene.materials.capacity() * sizeof(Material) + scene.lights.capacity() * sizeof(Light);
   const double image_bytes = 12.0 * r.width * r.height;
   std::printf("scene      %s\n", scene_path.c_str());
-  std::printf("image      %dx%d, %d spp, max depth %d, %s\n", r.width, r.height, r.samples_per_pixel, r.max_depth,
+  const char* filters[] = {"box", "gaussian", "mitchell"};
+  std::string sampling = std::to_string(r.samples_per_pixel) + " spp";
+  if (r.adaptive) sampling += " (adaptive up to " + std::to_string(r.adaptive->max_samples_per_pixel) + ")";
+  std::printf("image      %dx%d, %s, %s filter, max depth %d, %s\n", r.width, r.height, sampling.c_str(),
+              filters[static_cast<int>(r.pixel_filter.type)], r.max_depth,
               r.shading_model == ShadingModel::phong ? "phong" : "blinn-phong");
   std::printf("objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes\n", scene.objects.size(),
               by_type[0], by_type[1], by_type[2], by_type[3]);
