@@ -47,6 +47,9 @@ struct RenderArgs {
   bool passes_layered = false;
   std::optional<double> exposure;
   std::optional<std::string> tonemap;
+  std::optional<std::string> pixel_filter;
+  std::optional<int> adaptive_max_spp;
+  std::optional<double> adaptive_threshold;
 };
 
 glint::AccelBackend backend_named(const std::string& name) {
@@ -186,6 +189,7 @@ int run_explain(const ExplainArgs& args) {
   if (args.max_depth) r.max_depth = *args.max_depth;
   if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
   r.samples_per_pixel = 1;  // explain follows the pixel's center ray
+  r.adaptive.reset();       // (of a render at one sample per pixel, so never refined)
   // The same kernel `render` picks by default, so the numbers match its pixels.
   const auto accel = build_accelerator(scene, AcceleratorOptions{0, AccelBackend::automatic});
   const PixelExplanation e = explain_pixel(scene, *accel, args.pixel.at(0), args.pixel.at(1));
@@ -239,7 +243,11 @@ int run_info(const std::string& scene_path) {
                              texture_bytes(scene);
   const double image_bytes = 12.0 * r.width * r.height;
   std::printf("scene      %s\n", scene_path.c_str());
-  std::printf("image      %dx%d, %d spp, max depth %d, %s\n", r.width, r.height, r.samples_per_pixel, r.max_depth,
+  const char* filters[] = {"box", "gaussian", "mitchell"};
+  std::string sampling = std::to_string(r.samples_per_pixel) + " spp";
+  if (r.adaptive) sampling += " (adaptive up to " + std::to_string(r.adaptive->max_samples_per_pixel) + ")";
+  std::printf("image      %dx%d, %s, %s filter, max depth %d, %s\n", r.width, r.height, sampling.c_str(),
+              filters[static_cast<int>(r.pixel_filter.type)], r.max_depth,
               r.shading_model == ShadingModel::phong ? "phong" : "blinn-phong");
   std::printf("objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes\n", scene.objects.size(),
               by_type[0], by_type[1], by_type[2], by_type[3]);
@@ -298,6 +306,9 @@ void write_outputs(const glint::Image& image, const glint::PassImages& passes, c
 int run_render(const RenderArgs& args) {
   using namespace glint;
   const auto start = std::chrono::steady_clock::now();
+  // From the start: a signal while the scene loads stops the render before
+  // its first tile (and still leaves a resume file), rather than killing glint.
+  install_interrupt_handlers();
   const std::filesystem::path output(args.output_path);
   if (!image_format_for_path(output))
     throw Error(args.output_path + ": unsupported output format (supported: " +
@@ -336,6 +347,21 @@ int run_render(const RenderArgs& args) {
   if (args.max_depth) r.max_depth = *args.max_depth;
   if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
   if (args.width || args.height) check_image_size(r.width, r.height, SourceLocation{});
+  if (args.pixel_filter) {
+    // A named filter with its default parameters, replacing the scene's.
+    r.pixel_filter = PixelFilter{};
+    if (*args.pixel_filter == "gaussian") r.pixel_filter = {FilterType::gaussian, kGaussianRadius};
+    if (*args.pixel_filter == "mitchell") r.pixel_filter = {FilterType::mitchell, kMitchellRadius};
+  }
+  if (args.adaptive_max_spp || args.adaptive_threshold) {
+    AdaptiveSampling a = r.adaptive.value_or(AdaptiveSampling{});
+    if (args.adaptive_max_spp) a.max_samples_per_pixel = *args.adaptive_max_spp;
+    if (args.adaptive_threshold) a.threshold = *args.adaptive_threshold;
+    r.adaptive = a;
+  }
+  if (r.adaptive && r.adaptive->max_samples_per_pixel < r.samples_per_pixel)
+    throw Error("adaptive sampling: the most samples per pixel (" + std::to_string(r.adaptive->max_samples_per_pixel) +
+                ") is below samples_per_pixel (" + std::to_string(r.samples_per_pixel) + ")");
 
   // The resume key covers the scene file and the settings that shape pixels.
   const std::filesystem::path resume_path = resume_path_for(output);
@@ -371,7 +397,6 @@ int run_render(const RenderArgs& args) {
   ProgressBar bar;
   if (!args.quiet && isatty(STDERR_FILENO)) options.progress = [&bar](double f) { bar.update(f); };
   RenderStats stats;
-  install_interrupt_handlers();
   const bool complete = render_tiles(scene, *accel, image, tiles, options, &stats, &passes);
   if (!complete) {
     // Interrupted: keep the finished tiles (the rest is background) and what
@@ -405,6 +430,11 @@ int run_render(const RenderArgs& args) {
                  stats.seconds, total, format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
                  format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
                  stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
+    if (r.adaptive)
+      std::fprintf(stderr, "glint: adaptive: %zu of %zu pixels (%.1f%%) rendered again at %d spp\n",
+                   stats.refined_pixels, tiles.refine.size(),
+                   tiles.refine.empty() ? 0.0 : 100.0 * static_cast<double>(stats.refined_pixels) / tiles.refine.size(),
+                   r.adaptive->max_samples_per_pixel);
   }
   return 0;
 }
@@ -437,6 +467,14 @@ int main(int argc, char** argv) {
       ->check(number_in(-64, 64));
   render->add_option("--tonemap", args.tonemap, "8-bit outputs: clamp (default), reinhard or aces")
       ->check(one_of({"clamp", "reinhard", "aces"}, "tone map"));
+  render->add_option("--pixel-filter", args.pixel_filter, "box (default), gaussian or mitchell")
+      ->check(one_of({"box", "gaussian", "mitchell"}, "pixel filter"));
+  render->add_option("--adaptive-max-spp", args.adaptive_max_spp,
+                     "adaptive sampling: re-render pixels that differ from a neighbour at this many samples")
+      ->check(whole_number_in(1, glint::kMaxSamplesPerPixel));
+  render->add_option("--adaptive-threshold", args.adaptive_threshold,
+                     "adaptive sampling: largest neighbour difference (linear, any channel) left alone (default 0.05)")
+      ->check(number_in(0, 1e30));
   render->add_option("--passes", args.passes,
                      "extra images beside the output (OUT.<pass>.<ext>): comma-separated ambient, diffuse, specular, "
                      "reflection, transmission, normal, depth, albedo, or all");

@@ -20,6 +20,13 @@ for m in phong blinn-phong blinn-phong-same-exponent; do
 done
 python3 scripts/montage.py "$OUT/phong-vs-blinn.png" "$TMP"/model-{phong,blinn-phong,blinn-phong-same-exponent}.ppm
 
+# The showcase's component passes from one render (--passes), laid out like
+# the components figure: ambient, diffuse, specular, reflection, transmission, and their sum.
+render scenes/showcase.json --width 320 --height 180 --spp 16 \
+  --passes ambient,diffuse,specular,reflection,transmission -o "$TMP/passes.ppm"
+python3 scripts/montage.py "$OUT/passes.png" \
+  "$TMP"/passes.{ambient,diffuse,specular,reflection,transmission}.ppm "$TMP/passes.ppm"
+
 render scenes/figures/exponents.json -o "$OUT/exponents.png"
 render scenes/figures/shadows.json -o "$OUT/shadows.png"
 

@@ -642,6 +642,43 @@ TEST_F(CliToneMap, Errors) {
   expect_failure("render scene.json -o {out} --exposure 65", "between -64 and 64");
 }
 
+TEST_F(CliOptions, PixelFilterOverridesTheScene) {
+  for (const auto& [name, type, radius] :
+       {std::tuple{"gaussian", glint::FilterType::gaussian, glint::kGaussianRadius},
+        std::tuple{"mitchell", glint::FilterType::mitchell, glint::kMitchellRadius}}) {
+    SCOPED_TRACE(name);
+    const glint::Image got = render(std::string(name) + ".pfm", std::string("--spp 4 --pixel-filter ") + name);
+    EXPECT_TRUE(same_pixels(got, library_render(path("scene.json"), [&](glint::Scene& s) {
+                  s.render.samples_per_pixel = 4;
+                  s.render.pixel_filter = {type, radius};
+                })));
+  }
+  expect_failure("render scene.json -o {out} --pixel-filter gausian", "did you mean \"gaussian\"");
+}
+
+TEST_F(CliOptions, AdaptiveSamplingWithPasses) {
+  const RunResult r = run("render scene.json -o out.pfm --spp 2 --adaptive-max-spp 16 --adaptive-threshold 0.02 "
+                          "--passes all --threads 3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("glint: adaptive: "), std::string::npos) << r.err;
+  const glint::Image beauty = glint::read_image(path("out.pfm"));
+  EXPECT_TRUE(same_pixels(beauty, library_render(path("scene.json"), [](glint::Scene& s) {
+                s.render.samples_per_pixel = 2;
+                s.render.adaptive = glint::AdaptiveSampling{16, 0.02};
+              })));
+  EXPECT_FALSE(same_pixels(beauty, library_render(path("scene.json"), [](glint::Scene& s) {
+                 s.render.samples_per_pixel = 2;
+               })));
+  std::vector<double> sum(beauty.rgb.size(), 0.0);
+  for (const char* pass : kColorPasses) {
+    const glint::Image p = glint::read_image(path(std::string("out.") + pass + ".pfm"));
+    for (size_t i = 0; i < sum.size(); ++i) sum[i] += p.rgb[i];
+  }
+  for (size_t i = 0; i < sum.size(); ++i)
+    ASSERT_NEAR(sum[i], beauty.rgb[i], 1e-6 * std::max(1.0f, beauty.rgb[i])) << i;
+  expect_failure("render scene.json -o {out} --spp 8 --adaptive-max-spp 4", "below samples_per_pixel");
+}
+
 }  // namespace
 
 // --- explain -----------------------------------------------------------------

@@ -109,7 +109,8 @@ TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
   fs::create_directories(dir);
   const std::string glint = GLINT_CLI_PATH;
   const std::string scene = std::string(GLINT_SOURCE_DIR) + "/scenes/showcase.json";
-  const std::string size = " --width 240 --height 135 --spp 16 --threads 2";
+  // With passes: their finished tiles go into the resume file too.
+  const std::string size = " --width 240 --height 135 --spp 16 --threads 2 --passes diffuse,depth";
   const std::string ref = (dir / "ref.pfm").string(), out = (dir / "out.pfm").string();
   ASSERT_EQ(run(glint + " render " + scene + " -o " + ref + size + " --quiet"), 0);
 
@@ -134,6 +135,8 @@ TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
 
   ASSERT_EQ(run(glint + " render " + scene + " -o " + out + size + " --resume --quiet"), 0);
   EXPECT_EQ(read_file(out), read_file(ref));
+  EXPECT_EQ(read_file(dir / "out.diffuse.pfm"), read_file(dir / "ref.diffuse.pfm"));
+  EXPECT_EQ(read_file(dir / "out.depth.pfm"), read_file(dir / "ref.depth.pfm"));
   EXPECT_FALSE(fs::exists(out + ".glint-resume"));
   fs::remove_all(dir);
 }

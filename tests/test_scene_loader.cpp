@@ -736,5 +736,50 @@ TEST(SceneLoaderErrors, DegenerateShapes) {
                       "objects[0].vertices[2]: expected [x, y, z]");
 }
 
+// --- glint additions: pixel filter and adaptive sampling -----------------------
+
+
+TEST(SceneLoaderRender, PixelFilterAndAdaptive) {
+  EXPECT_EQ(parse_with(R"("objects": [])").render.pixel_filter.type, FilterType::box);
+  EXPECT_FALSE(parse_with(R"("objects": [])").render.adaptive.has_value());
+  const Scene g = parse_with(R"("render": {"pixel_filter": "gaussian"}, "objects": [])");
+  EXPECT_EQ(g.render.pixel_filter.type, FilterType::gaussian);
+  EXPECT_EQ(g.render.pixel_filter.radius, 1.5);
+  EXPECT_EQ(g.render.pixel_filter.sigma, 0.5);
+  const Scene m = parse_with(R"("render": {"pixel_filter": {"type": "mitchell", "radius": 3, "b": 0, "c": 0.5},
+      "samples_per_pixel": 4, "adaptive": {"max_samples_per_pixel": 64, "threshold": 0.2}}, "objects": [])");
+  EXPECT_EQ(m.render.pixel_filter.type, FilterType::mitchell);
+  EXPECT_EQ(m.render.pixel_filter.radius, 3);
+  EXPECT_EQ(m.render.pixel_filter.b, 0);
+  EXPECT_EQ(m.render.pixel_filter.c, 0.5);
+  ASSERT_TRUE(m.render.adaptive.has_value());
+  EXPECT_EQ(m.render.adaptive->max_samples_per_pixel, 64);
+  EXPECT_EQ(m.render.adaptive->threshold, 0.2);
+  EXPECT_EQ(parse_with(R"("render": {"pixel_filter": {"type": "mitchell"}}, "objects": [])").render.pixel_filter.radius, 2);
+  EXPECT_EQ(parse_with(R"("render": {"adaptive": {"max_samples_per_pixel": 8}}, "objects": [])").render.adaptive->threshold,
+            0.05);
+}
+
+TEST(SceneLoaderRender, PixelFilterAndAdaptiveErrors) {
+  expect_error_with(R"("render": {"pixel_filter": @"gausian"}, "objects": [])", "did you mean \"gaussian\"");
+  expect_error_with(R"("render": {"pixel_filter": {"type": "gaussian", "radius": @0}}, "objects": [])",
+                    "render.pixel_filter.radius: must be > 0");
+  expect_error_with(R"("render": {"pixel_filter": {"type": "gaussian", "radius": @17}}, "objects": [])", "must be <= 16");
+  expect_error_with(R"("render": {"pixel_filter": {"type": "mitchell", @"sigma": 1}}, "objects": [])",
+                    "does not apply to the mitchell filter");
+  expect_error_with(R"("render": {"pixel_filter": {"type": "mitchell", "c": @-0.1}}, "objects": [])",
+                    "must be between 0 and 1");
+  expect_error_with(R"("render": {"pixel_filter": @{"radius": 1}}, "objects": [])", "missing required key \"type\"");
+  expect_error_with(R"("render": {"pixel_filter": {"type": "box", @"radius": 1}}, "objects": [])",
+                    "does not apply to the box filter");
+  expect_error_with(R"("render": {"samples_per_pixel": 16, "adaptive": {"max_samples_per_pixel": @8}}, "objects": [])",
+                    "must be >= render.samples_per_pixel (16)");
+  expect_error_with(R"("render": {"adaptive": @{"threshold": 1}}, "objects": [])",
+                    "missing required key \"max_samples_per_pixel\"");
+  expect_error_with(R"("render": {"adaptive": {"max_samples_per_pixel": 8, "threshold": @-1}}, "objects": [])",
+                    "must be >= 0");
+}
+
 }  // namespace
 }  // namespace glint
+

@@ -7,9 +7,11 @@
 #include <condition_variable>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "glint/render/camera.h"
+#include "glint/render/filter.h"
 
 namespace glint {
 
@@ -60,37 +62,59 @@ void add_camera_sample(const Integrator& integrator, const Ray& ray, double w, T
   }
 }
 
-// The pixel's samples, summed into `sums`; returns the divisor that turns the
-// sums into the pixel's values.
+// What every pixel of one render shares: the camera and the filter's table.
+struct PixelContext {
+  const Integrator& integrator;
+  const Scene& scene;
+  CameraFrame frame;
+  std::optional<FilterSampler> filter;  // none for the box filter
+};
+
+// The pixel's `spp` samples, summed into `sums`; returns the divisor that
+// turns the sums into the pixel's values.
 template <bool kWithPasses>
-double sum_pixel_samples(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
-                         TraceContext& ctx, PixelSums& sums) {
-  const int w = scene.render.width, h = scene.render.height;
-  const int spp = scene.render.samples_per_pixel;
+double sum_pixel_samples(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx, PixelSums& sums) {
+  const int w = pc.scene.render.width, h = pc.scene.render.height;
   ctx.rng = pixel_rng(x, y);
-  if (spp == 1) {
-    add_camera_sample<kWithPasses>(integrator, generate_camera_ray(frame, (x + 0.5) / w, (y + 0.5) / h), 1.0, ctx,
-                                   sums);
+  if (spp == 1) {  // the contract's center ray, whatever the filter
+    add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, (x + 0.5) / w, (y + 0.5) / h), 1.0,
+                                   ctx, sums);
     return 1.0;
   }
   int nx, ny;
   stratified_grid(spp, nx, ny);
+  if (!pc.filter) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        const double u = (x + (i + ctx.rng.next_double()) / nx) / w;
+        const double v = (y + (j + ctx.rng.next_double()) / ny) / h;
+        add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, u, v), 1.0, ctx, sums);
+      }
+    }
+    return spp;
+  }
+  // The same stratified grid, mapped through the filter's inverse CDF.
+  double weight_sum = 0;
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
-      const double u = (x + (i + ctx.rng.next_double()) / nx) / w;
-      const double v = (y + (j + ctx.rng.next_double()) / ny) / h;
-      add_camera_sample<kWithPasses>(integrator, generate_camera_ray(frame, u, v), 1.0, ctx, sums);
+      const double su = (i + ctx.rng.next_double()) / nx;
+      const double sv = (j + ctx.rng.next_double()) / ny;
+      const FilterSample fs = pc.filter->sample(su, sv);
+      const double u = (x + 0.5 + fs.dx) / w, v = (y + 0.5 + fs.dy) / h;
+      add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, u, v), fs.weight, ctx, sums);
+      weight_sum += fs.weight;
     }
   }
-  return spp;
+  // pbrt-v4's normalization (sum of weights), so a flat region stays flat.
+  // Mitchell's signed weights could cancel exactly: then the plain mean.
+  return weight_sum != 0.0 ? weight_sum : spp;
 }
 
 // Weight 1 and a division by spp: the box filter's average, as it always was
 // (x * 1.0 and x / 1.0 are exact, so spp 1 is the center ray's color itself).
-Color render_pixel_with(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
-                        TraceContext& ctx) {
+Color render_pixel_with(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx) {
   PixelSums sums;
-  const double divisor = sum_pixel_samples<false>(integrator, scene, frame, x, y, ctx, sums);
+  const double divisor = sum_pixel_samples<false>(pc, x, y, spp, ctx, sums);
   return sums.color / divisor;
 }
 
@@ -102,24 +126,30 @@ void store(Image& image, int x, int y, const Color& c) {
 }
 
 // The pixel and its passes, stored.
-void render_pixel_into(const Integrator& integrator, const Scene& scene, const CameraFrame& frame, int x, int y,
-                       TraceContext& ctx, Image& image, PassImages* passes) {
+void render_pixel_into(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx, Image& image,
+                       PassImages* passes) {
   if (!passes || passes->empty()) {
-    store(image, x, y, render_pixel_with(integrator, scene, frame, x, y, ctx));
+    store(image, x, y, render_pixel_with(pc, x, y, spp, ctx));
     return;
   }
   PixelSums sums;
-  const double divisor = sum_pixel_samples<true>(integrator, scene, frame, x, y, ctx, sums);
+  const double divisor = sum_pixel_samples<true>(pc, x, y, spp, ctx, sums);
   store(image, x, y, sums.color / divisor);
   for (size_t i = 0; i < passes->passes.size(); ++i)
     store(passes->images[i], x, y, sums.passes[static_cast<size_t>(passes->passes[i])] / divisor);
 }
 
+PixelContext make_pixel_context(const Integrator& integrator, const Scene& scene) {
+  PixelContext pc{integrator, scene, make_camera_frame(scene.camera, scene.render.width, scene.render.height), {}};
+  if (scene.render.pixel_filter.type != FilterType::box) pc.filter.emplace(scene.render.pixel_filter);
+  return pc;
+}
+
 }  // namespace
 
 Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int y, TraceContext& ctx) {
-  const CameraFrame frame = make_camera_frame(scene.camera, scene.render.width, scene.render.height);
-  return render_pixel_with(integrator, scene, frame, x, y, ctx);
+  const PixelContext pc = make_pixel_context(integrator, scene);
+  return render_pixel_with(pc, x, y, scene.render.samples_per_pixel, ctx);
 }
 
 TileProgress::TileProgress(int width, int height, int tile)
@@ -129,7 +159,7 @@ TileProgress::TileProgress(int width, int height, int tile)
       done(static_cast<size_t>(tiles_x) * static_cast<size_t>(tiles_y), 0) {}
 
 size_t TileProgress::count_done() const {
-  return static_cast<size_t>(std::count(done.begin(), done.end(), uint8_t{1}));
+  return static_cast<size_t>(std::count(done.begin(), done.end(), stages));
 }
 
 Image render_image(const Scene& scene, const Accelerator& accel, const RenderOptions& options,
@@ -140,39 +170,47 @@ Image render_image(const Scene& scene, const Accelerator& accel, const RenderOpt
   return image;
 }
 
-bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, TileProgress& progress,
-                  const RenderOptions& options, RenderStats* stats, PassImages* passes) {
-  const auto start = std::chrono::steady_clock::now();
-  const int w = scene.render.width, h = scene.render.height;
-  const Integrator integrator(scene, accel);
-  const CameraFrame frame = make_camera_frame(scene.camera, w, h);
+std::vector<uint8_t> find_pixels_to_refine(const Image& image, double threshold) {
+  const int w = image.width, h = image.height;
+  std::vector<uint8_t> refine(static_cast<size_t>(w) * static_cast<size_t>(h), 0);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float* p = image.pixel(x, y);
+      bool differs = false;
+      for (int dy = -1; dy <= 1 && !differs; ++dy) {
+        for (int dx = -1; dx <= 1 && !differs; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+          const float* q = image.pixel(nx, ny);
+          for (int c = 0; c < 3; ++c)
+            // Written so that NaN counts as different.
+            if (!(std::abs(static_cast<double>(p[c]) - q[c]) <= threshold)) differs = true;
+        }
+      }
+      refine[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] = differs;
+    }
+  }
+  return refine;
+}
 
-  const int tile = progress.tile_size;
-  std::vector<int> todo;
-  for (size_t t = 0; t < progress.done.size(); ++t)
-    if (!progress.done[t]) todo.push_back(static_cast<int>(t));
+namespace {
+
+// Runs `render_tile(t, ctx)` for every tile index in `todo` on a pool of
+// threads; the tile returns whether it finished (false: cancelled part-way).
+// Reports progress as (already + finished) / all tiles.
+template <class RenderTile>
+void run_tiles(const std::vector<int>& todo, int threads, const RenderOptions& options, double already, double all,
+               RayStats& total, RenderTile render_tile) {
   const int todo_count = static_cast<int>(todo.size());
-  const int threads = std::max(1, std::min(resolve_thread_count(options.threads), std::max(1, todo_count)));
   auto cancelled = [&] { return options.cancel && options.cancel->load(std::memory_order_relaxed); };
-
   std::atomic<int> next{0};
   std::atomic<int> finished{0};  // tiles taken off the list: rendered or abandoned
   std::mutex stats_mutex;
   std::condition_variable all_done;
-  RayStats total;
   auto worker = [&] {
     TraceContext ctx{Rng(0), {}};
     for (int i = next++; i < todo_count; i = next++) {
-      const int t = todo[i];
-      const int x0 = (t % progress.tiles_x) * tile, y0 = (t / progress.tiles_x) * tile;
-      const int x1 = std::min(x0 + tile, w), y1 = std::min(y0 + tile, h);
-      bool complete = !cancelled();
-      for (int y = y0; y < y1 && complete; ++y) {
-        for (int x = x0; x < x1; ++x) render_pixel_into(integrator, scene, frame, x, y, ctx, image, passes);
-        complete = !cancelled() || y + 1 == y1;
-      }
-      // Each worker writes only its own tiles' flags: no two threads share one.
-      if (complete) progress.done[t] = 1;
+      render_tile(todo[static_cast<size_t>(i)], ctx);
       if (++finished == todo_count) {
         std::lock_guard lock(stats_mutex);
         all_done.notify_all();
@@ -181,13 +219,10 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
     std::lock_guard lock(stats_mutex);
     total += ctx.stats;
   };
-
   std::vector<std::thread> pool;
-  pool.reserve(threads);
+  pool.reserve(static_cast<size_t>(threads));
   for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
   if (options.progress) {
-    const double already = static_cast<double>(progress.done.size() - todo.size());
-    const double all = static_cast<double>(std::max<size_t>(1, progress.done.size()));
     std::unique_lock lock(stats_mutex);
     while (!all_done.wait_for(lock, std::chrono::milliseconds(100),
                               [&] { return finished.load() == todo_count || cancelled(); })) {
@@ -196,12 +231,83 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
     lock.unlock();
   }
   for (std::thread& t : pool) t.join();
+}
+
+}  // namespace
+
+bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, TileProgress& progress,
+                  const RenderOptions& options, RenderStats* stats, PassImages* passes) {
+  const auto start = std::chrono::steady_clock::now();
+  const int w = scene.render.width, h = scene.render.height;
+  const Integrator integrator(scene, accel);
+  const PixelContext pc = make_pixel_context(integrator, scene);
+  const std::optional<AdaptiveSampling>& adaptive = scene.render.adaptive;
+  const uint8_t stages = adaptive ? 2 : 1;
+  progress.stages = stages;
+  auto cancelled = [&] { return options.cancel && options.cancel->load(std::memory_order_relaxed); };
+
+  const int tile = progress.tile_size;
+  auto tile_rect = [&](int t, int& x0, int& y0, int& x1, int& y1) {
+    x0 = (t % progress.tiles_x) * tile;
+    y0 = (t / progress.tiles_x) * tile;
+    x1 = std::min(x0 + tile, w);
+    y1 = std::min(y0 + tile, h);
+  };
+  // Tiles still at `stage` - 1 (stage 1: the first pass; 2: adaptive refinement).
+  auto tiles_before = [&](uint8_t stage) {
+    std::vector<int> todo;
+    for (size_t t = 0; t < progress.done.size(); ++t)
+      if (progress.done[t] == stage - 1) todo.push_back(static_cast<int>(t));
+    return todo;
+  };
+  const double all = static_cast<double>(std::max<size_t>(1, progress.done.size() * stages));
+  auto stages_done = [&] {
+    double n = 0;
+    for (uint8_t d : progress.done) n += d;
+    return n;
+  };
+  int threads_used = 1;
+  RayStats total;
+
+  // Each stage renders whole rows of a tile and checks for a cancel between
+  // rows; each worker writes only its own tiles' flags and pixels.
+  auto run_stage = [&](uint8_t stage, auto render_pixel_at) {
+    const std::vector<int> todo = tiles_before(stage);
+    const int threads =
+        std::max(1, std::min(resolve_thread_count(options.threads), std::max(1, static_cast<int>(todo.size()))));
+    threads_used = std::max(threads_used, threads);
+    run_tiles(todo, threads, options, stages_done(), all, total, [&](int t, TraceContext& ctx) {
+      int x0, y0, x1, y1;
+      tile_rect(t, x0, y0, x1, y1);
+      bool complete = !cancelled();
+      for (int y = y0; y < y1 && complete; ++y) {
+        for (int x = x0; x < x1; ++x) render_pixel_at(x, y, ctx);
+        complete = !cancelled() || y + 1 == y1;
+      }
+      if (complete) progress.done[static_cast<size_t>(t)] = stage;
+    });
+  };
+
+  run_stage(1, [&](int x, int y, TraceContext& ctx) {
+    render_pixel_into(pc, x, y, scene.render.samples_per_pixel, ctx, image, passes);
+  });
+  if (adaptive && !cancelled() && std::all_of(progress.done.begin(), progress.done.end(), [](uint8_t d) { return d >= 1; })) {
+    // Decided once, from the complete first pass (kept in resume files), so
+    // the choice never depends on which tiles happened to be finished.
+    if (progress.refine.empty()) progress.refine = find_pixels_to_refine(image, adaptive->threshold);
+    const int more = adaptive->max_samples_per_pixel;
+    run_stage(2, [&](int x, int y, TraceContext& ctx) {
+      if (progress.refine[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)])
+        render_pixel_into(pc, x, y, more, ctx, image, passes);
+    });
+  }
   if (options.progress && !cancelled()) options.progress(1.0);
 
   if (stats) {
     stats->rays = total;
-    stats->threads = threads;
+    stats->threads = threads_used;
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats->refined_pixels = static_cast<size_t>(std::count(progress.refine.begin(), progress.refine.end(), uint8_t{1}));
   }
   return progress.complete();
 }

@@ -26,19 +26,26 @@ struct RenderOptions {
 };
 
 // Which tiles of an image are finished: the unit of interrupt and resume.
+// With adaptive sampling a tile is finished in two stages: the first pass,
+// then the refinement of its chosen pixels.
 struct TileProgress {
   int tile_size = 16;
   int tiles_x = 0, tiles_y = 0;
-  std::vector<uint8_t> done;  // tiles_x * tiles_y flags, row-major
+  std::vector<uint8_t> done;  // tiles_x * tiles_y flags, row-major: the stages finished (0, 1, 2)
+  uint8_t stages = 1;         // 2 with adaptive sampling (render_tiles sets it)
+  // Adaptive sampling: per pixel (row-major), 1 = refined. Empty until the
+  // whole first pass is done, then decided once from it.
+  std::vector<uint8_t> refine;
 
   TileProgress() = default;
   TileProgress(int width, int height, int tile);
-  size_t count_done() const;
+  size_t count_done() const;  // tiles with every stage finished
   bool complete() const { return count_done() == done.size(); }
 };
 
 struct RenderStats {
   RayStats rays;
+  size_t refined_pixels = 0;  // adaptive sampling: pixels rendered again at its max
   double seconds = 0;  // wall time of the pixel loop
   int threads = 1;
 };
@@ -58,7 +65,13 @@ Image render_image(const Scene& scene, const Accelerator& accel, const RenderOpt
 bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, TileProgress& progress,
                   const RenderOptions& options = {}, RenderStats* stats = nullptr, PassImages* passes = nullptr);
 
-// Paints the pixels of unfinished tiles with the background color.
+// Adaptive sampling's choice, from a complete first-pass image: a pixel is
+// refined when one of its (up to) 8 neighbours differs from it by more than
+// `threshold` in some channel (linear values; NaN counts as different).
+std::vector<uint8_t> find_pixels_to_refine(const Image& image, double threshold);
+
+// Paints the pixels of tiles with no finished stage with the background color
+// (a tile whose refinement was interrupted keeps its first-pass pixels).
 void fill_unfinished_tiles(Image& image, const TileProgress& progress, const Color& background);
 
 // Color of one pixel (all its samples averaged): what render_image stores.

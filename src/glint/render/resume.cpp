@@ -64,7 +64,19 @@ uint64_t resume_key(std::span<const unsigned char> scene_bytes, const RenderSett
   h = fnv1a(h, scene_bytes.data(), scene_bytes.size());
   const int32_t fields[] = {s.width, s.height, s.samples_per_pixel, s.max_depth,
                             s.shading_model == ShadingModel::phong ? 0 : 1};
-  return fnv1a(h, fields, sizeof fields);
+  h = fnv1a(h, fields, sizeof fields);
+  // The filter and adaptive sampling (command-line overrides of the scene)
+  // only when not the defaults, so keys of older files stay what they were.
+  const PixelFilter& f = s.pixel_filter;
+  if (f.type != FilterType::box) {
+    const double filter[] = {static_cast<double>(f.type), f.radius, f.sigma, f.b, f.c};
+    h = fnv1a(h, filter, sizeof filter);
+  }
+  if (s.adaptive) {
+    const double adaptive[] = {static_cast<double>(s.adaptive->max_samples_per_pixel), s.adaptive->threshold};
+    h = fnv1a(h, adaptive, sizeof adaptive);
+  }
+  return h;
 }
 
 std::filesystem::path resume_path_for(const std::filesystem::path& output) {
@@ -86,6 +98,9 @@ void write_resume_file(const std::filesystem::path& path, const ResumeState& sta
   put(out, static_cast<int32_t>(state.passes.passes.size()));
   for (Pass p : state.passes.passes) put(out, static_cast<int32_t>(p));
   for (const Image& image : state.passes.images) put_pixels(image);
+  // Adaptive sampling's choice of pixels, once made (empty before).
+  put(out, static_cast<int32_t>(state.progress.refine.empty() ? 0 : 1));
+  out.insert(out.end(), state.progress.refine.begin(), state.progress.refine.end());
   write_file_atomically(path, out);
 }
 
@@ -111,7 +126,7 @@ std::optional<ResumeState> read_resume_file(const std::filesystem::path& path) {
   if (v1 && bytes.size() != head_bytes + pixel_bytes) in.fail("wrong size");
   in.read(state.progress.done.data(), state.progress.done.size());
   for (uint8_t d : state.progress.done)
-    if (d > 1) in.fail("bad tile flag");
+    if (d > (v1 ? 1 : 2)) in.fail("bad tile flag");
   state.image = Image(width, height);
   in.read(state.image.rgb.data(), pixel_bytes);
   if (!v1) {
@@ -124,10 +139,19 @@ std::optional<ResumeState> read_resume_file(const std::filesystem::path& path) {
       passes.push_back(static_cast<Pass>(p));
     }
     // Checked before allocating, so a corrupt count cannot ask for too much.
-    if (bytes.size() != head_bytes + pixel_bytes + 4 + 4 * passes.size() + pixel_bytes * passes.size())
-      in.fail("wrong size");
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    const size_t with_passes = head_bytes + pixel_bytes + 4 + 4 * passes.size() + pixel_bytes * passes.size() + 4;
+    if (bytes.size() != with_passes && bytes.size() != with_passes + pixels) in.fail("wrong size");
     state.passes = PassImages(std::move(passes), width, height);
     for (Image& image : state.passes.images) in.read(image.rgb.data(), pixel_bytes);
+    const int32_t has_refine = in.get<int32_t>();
+    if (has_refine != 0 && has_refine != 1) in.fail("bad refinement flag");
+    if (has_refine) {
+      state.progress.refine.resize(pixels);
+      in.read(state.progress.refine.data(), pixels);
+      for (uint8_t r : state.progress.refine)
+        if (r > 1) in.fail("bad refinement flag");
+    }
   }
   if (!in.at_end()) in.fail("trailing bytes");
   return state;

@@ -17,6 +17,27 @@ namespace glint {
 
 enum class ShadingModel { phong, blinn_phong };
 
+enum class FilterType { box, gaussian, mitchell };
+
+// How camera samples are weighted into a pixel (a glint addition; box is the
+// contract's). Separable: f(x, y) = f1(x) f1(y), offsets in pixels from the
+// pixel center, f1 zero beyond `radius`, normalized so that f integrates to 1.
+struct PixelFilter {
+  FilterType type = FilterType::box;
+  double radius = 0.5;  // box: the pixel itself (fixed); gaussian default 1.5, mitchell default 2
+  double sigma = 0.5;   // gaussian: standard deviation in pixels
+  double b = 1.0 / 3.0, c = 1.0 / 3.0;  // Mitchell-Netravali B and C
+};
+inline constexpr double kGaussianRadius = 1.5, kMitchellRadius = 2.0, kMaxFilterRadius = 16.0;
+
+// Adaptive sampling (a glint addition): after the whole image is rendered at
+// samples_per_pixel, pixels that differ from a neighbour by more than
+// `threshold` are rendered again at max_samples_per_pixel.
+struct AdaptiveSampling {
+  int max_samples_per_pixel = 64;
+  double threshold = 0.05;
+};
+
 struct RenderSettings {
   int width = 640;
   int height = 480;
@@ -25,6 +46,8 @@ struct RenderSettings {
   ShadingModel shading_model = ShadingModel::phong;
   Color background{0.0};
   std::optional<double> epsilon;  // nullopt: scale-aware automatic value
+  PixelFilter pixel_filter;
+  std::optional<AdaptiveSampling> adaptive;  // nullopt: every pixel gets samples_per_pixel
 };
 
 enum class CameraType { perspective, orthographic };
