@@ -40,7 +40,7 @@ struct RenderArgs {
   std::string scene_path, output_path;
   std::optional<int> width, height, spp, max_depth, threads;
   std::optional<std::string> shading_model;
-  std::string accel = "auto";
+  std::string accel = "bvh";
   bool quiet = false;
   bool resume = false;
   std::optional<std::string> passes;
@@ -53,9 +53,7 @@ struct RenderArgs {
 };
 
 glint::AccelBackend backend_named(const std::string& name) {
-  if (name == "embree") return glint::AccelBackend::embree;
-  if (name == "bvh") return glint::AccelBackend::bvh;
-  return glint::AccelBackend::automatic;
+  return name == "embree" ? glint::AccelBackend::embree : glint::AccelBackend::bvh;
 }
 
 // Set by SIGINT/SIGTERM: the render stops, writes what it has and a resume
@@ -190,8 +188,7 @@ int run_explain(const ExplainArgs& args) {
   if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
   r.samples_per_pixel = 1;  // explain follows the pixel's center ray
   r.adaptive.reset();       // (of a render at one sample per pixel, so never refined)
-  // The same kernel `render` picks by default, so the numbers match its pixels.
-  const auto accel = build_accelerator(scene, AcceleratorOptions{0, AccelBackend::automatic});
+  const auto accel = build_accelerator(scene);  // render's default kernel: the numbers match its pixels
   const PixelExplanation e = explain_pixel(scene, *accel, args.pixel.at(0), args.pixel.at(1));
   const std::string text = args.json ? explanation_json(scene, e) : explanation_text(scene, e);
   std::fwrite(text.data(), 1, text.size(), stdout);
@@ -426,7 +423,7 @@ int run_render(const RenderArgs& args) {
                  "%s shadow, %s reflection, %s refraction; %.2f Mrays/s\n",
                  args.output_path.c_str(), r.width, r.height, r.samples_per_pixel, stats.threads,
                  stats.threads == 1 ? "" : "s",
-                 resolve_backend(scene, backend_named(args.accel)) == AccelBackend::embree ? "embree" : "bvh",
+                 args.accel.c_str(),
                  stats.seconds, total, format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
                  format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
                  stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
@@ -457,10 +454,8 @@ int main(int argc, char** argv) {
       ->check(one_of({"phong", "blinn-phong"}, "shading model"));
   render->add_option("--threads", args.threads, "worker threads (default: all cores)")
       ->check(whole_number_in(1, 1024));
-  render->add_option("--accel", args.accel,
-                     "ray tracing kernel: bvh (ours), embree (Intel Embree), or auto (default: embree for "
-                     "scenes of 100k+ mesh triangles when built with it, else bvh)")
-      ->check(one_of({"auto", "bvh", "embree"}, "accelerator"));
+  render->add_option("--accel", args.accel, "ray tracing kernel: bvh (ours, the default) or embree (Intel Embree)")
+      ->check(one_of({"bvh", "embree"}, "accelerator"));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
   render->add_option("--exposure", args.exposure, "8-bit outputs: multiply linear values by 2^EV first")

@@ -250,6 +250,53 @@ TEST(Packets, SameHitsAsSingleRays) {
   EXPECT_NEAR(got[1]->t, 2.0, 1e-2);
 }
 
+TEST(Packets, TiesOnSharedEdgesGoToTheLowerTriangleInBothKernels) {
+  // A grid of 8 x 8 quads in z = 0, each split along its diagonal; rays
+  // straight down through grid lines, vertices and diagonals hit two or more
+  // triangles at exactly the same distance.
+  Mesh grid;
+  grid.file = "grid";
+  for (int j = 0; j <= 8; ++j)
+    for (int i = 0; i <= 8; ++i) grid.positions.push_back(Vec3f{-1.0f + 0.25f * i, -1.0f + 0.25f * j, 0.0f});
+  for (uint32_t j = 0; j < 8; ++j)
+    for (uint32_t i = 0; i < 8; ++i) {
+      const uint32_t a = j * 9 + i, b = a + 1, c = a + 9, d = c + 1;
+      grid.indices.insert(grid.indices.end(), {a, b, d, a, d, c});
+    }
+  grid.triangle_material.assign(grid.triangle_count(), 0);
+  Scene scene;
+  add_mesh_object(scene, add_mesh(scene, std::move(grid)), 0, false);
+  const auto accel = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
+  std::vector<Ray> rays;
+  for (int j = 1; j < 8; ++j)
+    for (int i = 1; i < 8; ++i) {
+      const double x = -1.0 + 0.25 * i, y = -1.0 + 0.25 * j;
+      for (const Vec3 p : {Vec3(x, y, 5), Vec3(x + 0.125, y, 5), Vec3(x + 0.125, y + 0.125, 5), Vec3(x, y + 0.1, 5)})
+        rays.push_back(make_ray(p, {0, 0, -1}));
+    }
+  int ties = 0;
+  for (size_t k = 0; k + kPacketSize <= rays.size(); k += kPacketSize) {
+    std::optional<Hit> got[kPacketSize];
+    accel->intersect_packet(&rays[k], kPacketSize, got);
+    for (int i = 0; i < kPacketSize; ++i) {
+      const auto want = accel->intersect(rays[k + i]);
+      ASSERT_TRUE(want && got[i]);
+      EXPECT_EQ(got[i]->primitive, want->primitive) << "ray " << k + i;
+      // The winner is the lowest-numbered triangle hit at that distance.
+      uint32_t lowest = UINT32_MAX;
+      int hit_count = 0;
+      for (uint32_t t = 0; t < scene.meshes[0].triangle_count(); ++t)
+        if (intersect_triangle(mesh_triangle(scene.meshes[0], t), rays[k + i])) {
+          lowest = std::min(lowest, t);
+          ++hit_count;
+        }
+      ties += hit_count > 1;
+      EXPECT_EQ(want->primitive, lowest) << "ray " << k + i;
+    }
+  }
+  EXPECT_GT(ties, 100);
+}
+
 // --- both backends ---------------------------------------------------------
 
 double fraction_within(const Image& a, const Image& b, double tolerance) {

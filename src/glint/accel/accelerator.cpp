@@ -169,22 +169,14 @@ class BvhAccelerator final : public Accelerator {
 
   void intersect_packet(const Ray* rays, int count, std::optional<Hit>* hits) const override {
     if (single_mesh_ == kNone || count > kPacketSize) return Accelerator::intersect_packet(rays, count, hits);
+    // The steps of intersect() ray by ray, with the mesh traced as a packet:
+    // planes first (they bound t_max), then the mesh, then the refinement.
     const Object& object = scene_.objects[single_mesh_];
-    Ray object_rays[kPacketSize];
-    for (int i = 0; i < count; ++i) object_rays[i] = to_object_space(scene_, object, rays[i]);
-    RayPacket packet = make_ray_packet(object_rays, count);
-    if (!intersect_mesh_packet(mesh_bvhs_[object.shape], packet)) return Accelerator::intersect_packet(rays, count, hits);
-    const Mesh& mesh = scene_.meshes[object.shape];
+    Ray bounded[kPacketSize], object_rays[kPacketSize];
     for (int i = 0; i < count; ++i) {
-      Ray ray = rays[i];
+      Ray& ray = bounded[i];
+      ray = rays[i];
       hits[i].reset();
-      if (packet.triangle[i] != kNoTriangle) {
-        // Refined in double, as intersect_mesh does.
-        const TriangleHit h = triangle_plane_hit(mesh_triangle(mesh, packet.triangle[i]), object_rays[i]);
-        const double t = h.t > ray.t_min && h.t < ray.t_max ? h.t : static_cast<double>(packet.t_max[i]);
-        hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i]};
-        ray.t_max = t;
-      }
       for (uint32_t p : planes_) {
         Hit h;
         if (intersect_object(scene_, p, ray, h)) {
@@ -192,6 +184,23 @@ class BvhAccelerator final : public Accelerator {
           hits[i] = h;
         }
       }
+      object_rays[i] = to_object_space(scene_, object, ray);
+    }
+    RayPacket packet = make_ray_packet(object_rays, count);
+    if (!intersect_mesh_packet(mesh_bvhs_[object.shape], packet)) {
+      for (int i = 0; i < count; ++i) {
+        Hit h;
+        if (intersect_object(scene_, single_mesh_, bounded[i], h, &mesh_bvhs_)) hits[i] = h;
+      }
+      return;
+    }
+    for (int i = 0; i < count; ++i) {
+      if (packet.triangle[i] == kNoTriangle) continue;
+      const Ray& r = object_rays[i];
+      const Triangle vertices = mesh_triangle(scene_.meshes[object.shape], packet.triangle[i]);
+      const TriangleHit h = triangle_plane_hit(vertices, r);
+      const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(packet.t_max[i]);
+      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i]};
     }
   }
 
@@ -256,16 +265,8 @@ class BruteForceAccelerator final : public Accelerator {
 
 }  // namespace
 
-AccelBackend resolve_backend(const Scene& scene, AccelBackend requested) {
-  if (requested != AccelBackend::automatic) return requested;
-  size_t triangles = 0;
-  for (const Object& o : scene.objects)
-    if (o.type == ShapeType::mesh) triangles += scene.meshes[o.shape].triangle_count();
-  return embree_available() && triangles >= kEmbreeMinTriangles ? AccelBackend::embree : AccelBackend::bvh;
-}
-
 std::unique_ptr<Accelerator> build_accelerator(const Scene& scene, const AcceleratorOptions& options) {
-  if (resolve_backend(scene, options.backend) == AccelBackend::embree) return build_embree_accelerator(scene, options);
+  if (options.backend == AccelBackend::embree) return build_embree_accelerator(scene, options);
   return std::make_unique<BvhAccelerator>(scene, options);
 }
 

@@ -23,6 +23,9 @@ struct Hit {
 
 struct MeshBvh;
 
+// Rays per packet (Accelerator::intersect_packet).
+inline constexpr int kPacketSize = 8;
+
 // A mesh triangle in the mesh's own space, as doubles.
 Triangle mesh_triangle(const Mesh& mesh, uint32_t triangle);
 
@@ -56,11 +59,8 @@ class Accelerator {
 // Which traversal kernel answers the queries: our BVH, or Intel Embree (when
 // glint was built with it). Both give the same hits up to float ties: Embree's
 // float hits on mesh triangles are refined in double by our triangle test.
-// `automatic` picks what measured faster (README, Performance): Embree for
-// scenes with at least kEmbreeMinTriangles mesh triangles when it is
-// available, our BVH otherwise.
-enum class AccelBackend { bvh, embree, automatic };
-inline constexpr size_t kEmbreeMinTriangles = 100000;
+// Ours is the default: it measured faster end to end (README, Performance).
+enum class AccelBackend { bvh, embree };
 
 struct AcceleratorOptions {
   int threads = 0;  // build threads; 0: all cores
@@ -74,8 +74,6 @@ std::unique_ptr<Accelerator> build_accelerator(const Scene& scene,
 
 // True when this build of glint has the Embree backend.
 bool embree_available();
-// What `automatic` means for this scene (bvh or embree).
-AccelBackend resolve_backend(const Scene& scene, AccelBackend requested);
 // Throws glint::Error when Embree is not available.
 std::unique_ptr<Accelerator> build_embree_accelerator(const Scene& scene, const AcceleratorOptions& options);
 

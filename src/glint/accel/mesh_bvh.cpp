@@ -72,7 +72,7 @@ struct WatertightRay4 {
   }
 };
 
-// Bit i set when lane i is hit with t in (t_min, t_max); `t` gets the distances.
+// Bit i set when lane i is hit with t in (t_min, t_max]; `t` gets the distances.
 inline int intersect_block(const Triangle4& b, const WatertightRay4& r, __m128 t_min, __m128 t_max, __m128& t) {
   __m128 x[3], y[3], z[3];
   for (int v = 0; v < 3; ++v) {
@@ -92,11 +92,19 @@ inline int intersect_block(const Triangle4& b, const WatertightRay4& r, __m128 t
       _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, z[0]), _mm_mul_ps(e1, z[1])), _mm_mul_ps(e2, z[2])), r.sz);
   t = _mm_div_ps(t_scaled, det);  // NaN lanes and det == 0 fail the range tests below
   __m128 valid = _mm_andnot_ps(_mm_and_ps(any_neg, any_pos), _mm_cmpneq_ps(det, zero));
-  valid = _mm_and_ps(valid, _mm_and_ps(_mm_cmpgt_ps(t, t_min), _mm_cmplt_ps(t, t_max)));
+  valid = _mm_and_ps(valid, _mm_and_ps(_mm_cmpgt_ps(t, t_min), _mm_cmple_ps(t, t_max)));
   return _mm_movemask_ps(valid);
 }
 
 float float_t_min(const Ray& ray) { return static_cast<float>(ray.t_min); }
+
+// The largest float below the ray's t_max: "t <= this" is "t < t_max" in float.
+float float_t_max_inclusive(const Ray& ray) { return std::nextafter(clamp_to_float(ray.t_max), 0.0f); }
+
+// Among hits at the same float distance (a ray through a shared edge), the
+// lower triangle index wins, so the answer does not depend on the order the
+// traversal met them in (single rays and packets agree).
+constexpr uint32_t kNoHitId = 0x7fffffff;
 
 }  // namespace
 
@@ -110,8 +118,8 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
   const WatertightRay4 wray(ray);
   const __m128 t_min = _mm_set1_ps(float_t_min(ray));
   Ray traversal = ray;
-  float best = clamp_to_float(ray.t_max);
-  uint32_t best_block = 0;
+  float best = float_t_max_inclusive(ray);
+  uint32_t best_block = 0, best_id = kNoHitId;
   int best_lane = 0;
   const bool found = traverse_closest_leaves(m.bvh, traversal, [&](uint32_t first, uint32_t count, Ray& r) {
     bool found = false;
@@ -124,8 +132,10 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
       while (mask) {
         const int lane = __builtin_ctz(mask);
         mask &= mask - 1;
-        if (ts[lane] < best) {
+        const uint32_t id = m.blocks[b].id[lane];
+        if (ts[lane] < best || (ts[lane] == best && id < best_id)) {
           best = ts[lane];
+          best_id = id;
           best_block = b;
           best_lane = lane;
           found = true;
@@ -144,7 +154,7 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
 
 bool occluded_mesh_bvh(const MeshBvh& m, const Ray& ray) {
   const WatertightRay4 wray(ray);
-  const __m128 t_min = _mm_set1_ps(float_t_min(ray)), t_max = _mm_set1_ps(clamp_to_float(ray.t_max));
+  const __m128 t_min = _mm_set1_ps(float_t_min(ray)), t_max = _mm_set1_ps(float_t_max_inclusive(ray));
   return traverse_any_leaves(m.bvh, ray, [&](uint32_t first, uint32_t count, const Ray&) {
     for (uint32_t b = first; b < first + count; ++b) {
       __m128 t;
@@ -165,13 +175,13 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
       p.inv_direction[a][i] = static_cast<float>(1.0 / r.direction[a]);
     }
     p.t_min[i] = static_cast<float>(r.t_min);
-    p.t_max[i] = clamp_to_float(r.t_max);
+    p.t_max[i] = std::nextafter(clamp_to_float(r.t_max), 0.0f);  // inclusive, as intersect_mesh_bvh
     p.triangle[i] = kNoTriangle;
   }
   return p;
 }
 
-#if defined(__AVX__)
+#if defined(__AVX2__)
 
 namespace {
 
@@ -214,7 +224,7 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   const __m256 box_t_min =
       _mm256_sub_ps(_mm256_mul_ps(t_min, _mm256_set1_ps(1.0f - 0x1p-20f)), _mm256_set1_ps(1e-30f));
   __m256 t_max = _mm256_load_ps(p.t_max);
-  __m256i hit_triangle = _mm256_set1_epi32(static_cast<int>(kNoTriangle));
+  __m256i hit_triangle = _mm256_set1_epi32(static_cast<int>(kNoHitId));
   const int all = (1 << p.count) - 1;
 
   struct Entry { uint32_t child, count; int mask; };
@@ -254,16 +264,19 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
           const __m256 t = _mm256_div_ps(t_scaled, det);
           __m256 valid = _mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
           valid = _mm256_and_ps(valid, _mm256_and_ps(_mm256_cmp_ps(t, t_min, _CMP_GT_OQ),
-                                                     _mm256_cmp_ps(t, t_max, _CMP_LT_OQ)));
+                                                     _mm256_cmp_ps(t, t_max, _CMP_LE_OQ)));
+          // Nearer, or as near with a lower triangle index (as intersect_mesh_bvh).
+          const __m256i id = _mm256_set1_epi32(static_cast<int>(block.id[lane]));
+          valid = _mm256_and_ps(valid, _mm256_or_ps(_mm256_cmp_ps(t, t_max, _CMP_LT_OQ),
+                                                    _mm256_castsi256_ps(_mm256_cmpgt_epi32(hit_triangle, id))));
           if (_mm256_movemask_ps(valid) & e.mask) {
             valid = _mm256_and_ps(valid, _mm256_castsi256_ps(_mm256_set_epi32(
                                              e.mask & 128 ? -1 : 0, e.mask & 64 ? -1 : 0, e.mask & 32 ? -1 : 0,
                                              e.mask & 16 ? -1 : 0, e.mask & 8 ? -1 : 0, e.mask & 4 ? -1 : 0,
                                              e.mask & 2 ? -1 : 0, e.mask & 1 ? -1 : 0)));
             t_max = _mm256_blendv_ps(t_max, t, valid);
-            hit_triangle = _mm256_castps_si256(_mm256_blendv_ps(
-                _mm256_castsi256_ps(hit_triangle), _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(block.id[lane]))),
-                valid));
+            hit_triangle = _mm256_castps_si256(
+                _mm256_blendv_ps(_mm256_castsi256_ps(hit_triangle), _mm256_castsi256_ps(id), valid));
           }
         }
       }
@@ -303,6 +316,8 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   }
   _mm256_store_ps(p.t_max, t_max);
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(p.triangle), hit_triangle);
+  for (int i = 0; i < kPacketSize; ++i)
+    if (p.triangle[i] == kNoHitId) p.triangle[i] = kNoTriangle;
   return true;
 }
 

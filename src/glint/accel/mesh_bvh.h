@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "glint/accel/accelerator.h"
 #include "glint/accel/bvh.h"
 #include "glint/scene/scene.h"
 
@@ -45,7 +46,6 @@ bool occluded_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray);
 // Each box and each triangle is loaded once for the whole packet. The
 // arithmetic per ray is that of intersect_mesh_bvh, so the hits are the same
 // (up to which of two triangles at equal float distance wins).
-inline constexpr int kPacketSize = 8;
 struct alignas(32) RayPacket {
   float origin[3][kPacketSize], direction[3][kPacketSize];
   float inv_direction[3][kPacketSize];  // from the double direction, as RaySlabs has it

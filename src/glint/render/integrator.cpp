@@ -132,9 +132,18 @@ Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrac
   return color;
 }
 
+Color Integrator::cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth,
+                                    TraceContext& ctx) const {
+  return hit ? shade_surface(ray, *hit, depth, ctx).sum() : scene_.render.background;
+}
+
 CameraSample Integrator::cast_camera_ray(const Ray& ray, TraceContext& ctx) const {
+  return cast_camera_ray_with_hit(ray, accel_.intersect(ray), ctx);
+}
+
+CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit,
+                                                  TraceContext& ctx) const {
   CameraSample out;
-  const std::optional<Hit> hit = accel_.intersect(ray);
   if (!hit) {
     // The background is the whole of a missed pixel; it goes to `ambient` so
     // the five color passes still sum to the image.

@@ -100,6 +100,10 @@ class Integrator {
                            RayTrace* trace = nullptr) const;
   // cast_ray for a camera ray (depth 1), keeping the parts apart.
   CameraSample cast_camera_ray(const Ray& ray, TraceContext& ctx) const;
+  // The same two, for a camera ray whose first hit is already known (found
+  // with the other rays of its packet: Accelerator::intersect_packet).
+  Color cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth, TraceContext& ctx) const;
+  CameraSample cast_camera_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, TraceContext& ctx) const;
 
   double epsilon() const { return epsilon_; }
 

@@ -42,13 +42,16 @@ struct PixelSums {
 
 // Adds one camera sample of weight `w` to `sums`. The pass path's color is
 // CameraSample::terms.sum(), bit for bit cast_ray's.
+// `known_hit`, when given, is the ray's first hit, already found.
 template <bool kWithPasses>
-void add_camera_sample(const Integrator& integrator, const Ray& ray, double w, TraceContext& ctx, PixelSums& sums) {
+void add_camera_sample(const Integrator& integrator, const Ray& ray, double w, TraceContext& ctx, PixelSums& sums,
+                       const std::optional<Hit>* known_hit = nullptr) {
   ctx.stats.camera++;
   if constexpr (!kWithPasses) {
-    sums.color += w * integrator.cast_ray(ray, 1, ctx);
+    sums.color += w * (known_hit ? integrator.cast_ray_with_hit(ray, *known_hit, 1, ctx) : integrator.cast_ray(ray, 1, ctx));
   } else {
-    const CameraSample s = integrator.cast_camera_ray(ray, ctx);
+    const CameraSample s =
+        known_hit ? integrator.cast_camera_ray_with_hit(ray, *known_hit, ctx) : integrator.cast_camera_ray(ray, ctx);
     sums.color += w * s.terms.sum();
     auto add = [&](Pass p, const Color& c) { sums.passes[static_cast<size_t>(p)] += w * c; };
     add(Pass::ambient, s.terms.ambient);
@@ -70,15 +73,19 @@ struct PixelContext {
   std::optional<FilterSampler> filter;  // none for the box filter
 };
 
+Ray center_ray(const PixelContext& pc, int x, int y) {
+  return generate_camera_ray(pc.frame, (x + 0.5) / pc.scene.render.width, (y + 0.5) / pc.scene.render.height);
+}
+
 // The pixel's `spp` samples, summed into `sums`; returns the divisor that
 // turns the sums into the pixel's values.
 template <bool kWithPasses>
-double sum_pixel_samples(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx, PixelSums& sums) {
+double sum_pixel_samples(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx, PixelSums& sums,
+                         const std::optional<Hit>* center_hit = nullptr) {
   const int w = pc.scene.render.width, h = pc.scene.render.height;
   ctx.rng = pixel_rng(x, y);
   if (spp == 1) {  // the contract's center ray, whatever the filter
-    add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, (x + 0.5) / w, (y + 0.5) / h), 1.0,
-                                   ctx, sums);
+    add_camera_sample<kWithPasses>(pc.integrator, center_ray(pc, x, y), 1.0, ctx, sums, center_hit);
     return 1.0;
   }
   int nx, ny;
@@ -112,9 +119,10 @@ double sum_pixel_samples(const PixelContext& pc, int x, int y, int spp, TraceCon
 
 // Weight 1 and a division by spp: the box filter's average, as it always was
 // (x * 1.0 and x / 1.0 are exact, so spp 1 is the center ray's color itself).
-Color render_pixel_with(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx) {
+Color render_pixel_with(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx,
+                        const std::optional<Hit>* center_hit = nullptr) {
   PixelSums sums;
-  const double divisor = sum_pixel_samples<false>(pc, x, y, spp, ctx, sums);
+  const double divisor = sum_pixel_samples<false>(pc, x, y, spp, ctx, sums, center_hit);
   return sums.color / divisor;
 }
 
@@ -127,13 +135,13 @@ void store(Image& image, int x, int y, const Color& c) {
 
 // The pixel and its passes, stored.
 void render_pixel_into(const PixelContext& pc, int x, int y, int spp, TraceContext& ctx, Image& image,
-                       PassImages* passes) {
+                       PassImages* passes, const std::optional<Hit>* center_hit = nullptr) {
   if (!passes || passes->empty()) {
-    store(image, x, y, render_pixel_with(pc, x, y, spp, ctx));
+    store(image, x, y, render_pixel_with(pc, x, y, spp, ctx, center_hit));
     return;
   }
   PixelSums sums;
-  const double divisor = sum_pixel_samples<true>(pc, x, y, spp, ctx, sums);
+  const double divisor = sum_pixel_samples<true>(pc, x, y, spp, ctx, sums, center_hit);
   store(image, x, y, sums.color / divisor);
   for (size_t i = 0; i < passes->passes.size(); ++i)
     store(passes->images[i], x, y, sums.passes[static_cast<size_t>(passes->passes[i])] / divisor);
@@ -271,7 +279,7 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
 
   // Each stage renders whole rows of a tile and checks for a cancel between
   // rows; each worker writes only its own tiles' flags and pixels.
-  auto run_stage = [&](uint8_t stage, auto render_pixel_at) {
+  auto run_stage = [&](uint8_t stage, auto render_row) {
     const std::vector<int> todo = tiles_before(stage);
     const int threads =
         std::max(1, std::min(resolve_thread_count(options.threads), std::max(1, static_cast<int>(todo.size()))));
@@ -281,24 +289,41 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
       tile_rect(t, x0, y0, x1, y1);
       bool complete = !cancelled();
       for (int y = y0; y < y1 && complete; ++y) {
-        for (int x = x0; x < x1; ++x) render_pixel_at(x, y, ctx);
+        render_row(y, x0, x1, ctx);
         complete = !cancelled() || y + 1 == y1;
       }
       if (complete) progress.done[static_cast<size_t>(t)] = stage;
     });
   };
 
-  run_stage(1, [&](int x, int y, TraceContext& ctx) {
-    render_pixel_into(pc, x, y, scene.render.samples_per_pixel, ctx, image, passes);
-  });
+  if (scene.render.samples_per_pixel == 1) {
+    // One center ray per pixel: the first hits of up to 8 neighbouring
+    // pixels are traced as a packet (the same hits as ray by ray), then each
+    // pixel is shaded as usual.
+    run_stage(1, [&](int y, int x0, int x1, TraceContext& ctx) {
+      for (int x = x0; x < x1; x += kPacketSize) {
+        const int n = std::min(kPacketSize, x1 - x);
+        Ray rays[kPacketSize];
+        std::optional<Hit> hits[kPacketSize];
+        for (int i = 0; i < n; ++i) rays[i] = center_ray(pc, x + i, y);
+        accel.intersect_packet(rays, n, hits);
+        for (int i = 0; i < n; ++i) render_pixel_into(pc, x + i, y, 1, ctx, image, passes, &hits[i]);
+      }
+    });
+  } else {
+    run_stage(1, [&](int y, int x0, int x1, TraceContext& ctx) {
+      for (int x = x0; x < x1; ++x) render_pixel_into(pc, x, y, scene.render.samples_per_pixel, ctx, image, passes);
+    });
+  }
   if (adaptive && !cancelled() && std::all_of(progress.done.begin(), progress.done.end(), [](uint8_t d) { return d >= 1; })) {
     // Decided once, from the complete first pass (kept in resume files), so
     // the choice never depends on which tiles happened to be finished.
     if (progress.refine.empty()) progress.refine = find_pixels_to_refine(image, adaptive->threshold);
     const int more = adaptive->max_samples_per_pixel;
-    run_stage(2, [&](int x, int y, TraceContext& ctx) {
-      if (progress.refine[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)])
-        render_pixel_into(pc, x, y, more, ctx, image, passes);
+    run_stage(2, [&](int y, int x0, int x1, TraceContext& ctx) {
+      for (int x = x0; x < x1; ++x)
+        if (progress.refine[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)])
+          render_pixel_into(pc, x, y, more, ctx, image, passes);
     });
   }
   if (options.progress && !cancelled()) options.progress(1.0);
