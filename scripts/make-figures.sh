@@ -27,6 +27,12 @@ render scenes/showcase.json --width 320 --height 180 --spp 16 \
 python3 scripts/montage.py "$OUT/passes.png" \
   "$TMP"/passes.{ambient,diffuse,specular,reflection,transmission}.ppm "$TMP/passes.ppm"
 
+# Soft shadows: one square area light, 0.3, 1.5 and 4 units wide, 64 samples.
+for n in small medium large; do
+  render scenes/figures/soft-shadows-$n.json -o "$TMP/soft-$n.ppm"
+done
+python3 scripts/montage.py "$OUT/soft-shadows.png" "$TMP"/soft-{small,medium,large}.ppm
+
 render scenes/figures/exponents.json -o "$OUT/exponents.png"
 render scenes/figures/shadows.json -o "$OUT/shadows.png"
 
