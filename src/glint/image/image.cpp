@@ -50,6 +50,23 @@ constexpr long kMaxDimension = 1L << 20;
   throw Error(SourceLocation{path.string(), 0, 0}, "cannot read: " + reason);
 }
 
+// Runs `body`; any exception but a glint::Error becomes one naming `path`
+// (through `fail`: fail_read or fail_write), so callers see one error type.
+template <class Body>
+auto naming_the_file(const fs::path& path, void (*fail)(const fs::path&, const std::string&), Body&& body)
+    -> decltype(body()) {
+  try {
+    return body();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    fail(path, "out of memory");
+  } catch (const std::exception& e) {
+    fail(path, e.what());
+  }
+  __builtin_unreachable();  // fail_read and fail_write throw
+}
+
 
 std::string unsupported_extension_reason(const fs::path& path) {
   const std::string ext = path.extension().string();
@@ -604,7 +621,7 @@ bool is_8bit_format(ImageFormat format) {
 }
 
 void write_image(const Image& image, const fs::path& path, const WriteOptions& options) {
-  try {
+  return naming_the_file(path, fail_write, [&] {
     const auto format = image_format_for_path(path);
     if (!format) fail_write(path, unsupported_extension_reason(path));
     if (!valid_size(image.width, image.height)) {
@@ -642,47 +659,29 @@ void write_image(const Image& image, const fs::path& path, const WriteOptions& o
         write_file_atomically(path, encode_hdr(image));
         break;
     }
-  } catch (const Error&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    fail_write(path, "out of memory");
-  } catch (const std::exception& e) {
-    fail_write(path, e.what());
-  }
+  });
 }
 
 void write_exr_channels(const std::vector<ExrChannel>& channels, const fs::path& path) {
-  try {
+  return naming_the_file(path, fail_write, [&] {
     if (channels.empty() || !channels[0].image) fail_write(path, "no channels");
     const Image& first = *channels[0].image;
     if (!valid_size(first.width, first.height)) fail_write(path, "invalid image size");
     const MallocBytes exr = encode_exr_channels(channels, first.width, first.height);
     write_file_atomically(path, {exr.data.get(), exr.size});
-  } catch (const Error&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    fail_write(path, "out of memory");
-  } catch (const std::exception& e) {
-    fail_write(path, e.what());
-  }
+  });
 }
 
 ExrPlanes read_exr_channels(const fs::path& path) {
-  try {
+  return naming_the_file(path, fail_read, [&] {
     const Bytes bytes = read_file(path);
     if (bytes.empty()) fail_read(path, "the file is empty");
     return decode_exr_planes(path, bytes, nullptr);
-  } catch (const Error&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    fail_read(path, "out of memory");
-  } catch (const std::exception& e) {
-    fail_read(path, e.what());
-  }
+  });
 }
 
 Image read_image(const fs::path& path) {
-  try {
+  return naming_the_file(path, fail_read, [&] {
     const auto format = image_format_for_path(path);
     if (!format) fail_read(path, unsupported_extension_reason(path));
     const Bytes bytes = read_file(path);
@@ -701,13 +700,7 @@ Image read_image(const fs::path& path) {
         return decode_hdr(path, bytes);
     }
     fail_read(path, "unknown image format");
-  } catch (const Error&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    fail_read(path, "out of memory");
-  } catch (const std::exception& e) {
-    fail_read(path, e.what());
-  }
+  });
 }
 
 }  // namespace glint
