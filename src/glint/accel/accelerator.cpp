@@ -158,11 +158,16 @@ class BvhAccelerator final : public Accelerator {
         found = true;
       }
     }
-    found |= traverse_closest(bvh_, ray, [&](uint32_t object, Ray& r) {
-      if (!intersect_object(scene_, object, r, best, &mesh_bvhs_)) return false;
-      r.t_max = best.t;
-      return true;
-    });
+    if (single_mesh_ != kNone) {
+      // One mesh: its own BVH is the whole tree (the top level would hold one box).
+      found |= intersect_object(scene_, single_mesh_, ray, best, &mesh_bvhs_);
+    } else {
+      found |= traverse_closest(bvh_, ray, [&](uint32_t object, Ray& r) {
+        if (!intersect_object(scene_, object, r, best, &mesh_bvhs_)) return false;
+        r.t_max = best.t;
+        return true;
+      });
+    }
     if (!found) return std::nullopt;
     return best;
   }
@@ -209,6 +214,9 @@ class BvhAccelerator final : public Accelerator {
   std::optional<uint32_t> first_blocker(const Ray& ray) const override {
     for (uint32_t p : planes_)
       if (occludes_object(scene_, p, ray)) return p;
+    if (single_mesh_ != kNone)
+      return occludes_object(scene_, single_mesh_, ray, &mesh_bvhs_) ? std::optional<uint32_t>(single_mesh_)
+                                                                      : std::nullopt;
     std::optional<uint32_t> blocker;
     traverse_any(bvh_, ray, [&](uint32_t object, const Ray& r) {
       if (!occludes_object(scene_, object, r, &mesh_bvhs_)) return false;
