@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -110,22 +112,25 @@ TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
   const std::string glint = GLINT_CLI_PATH;
   const std::string scene = std::string(GLINT_SOURCE_DIR) + "/scenes/showcase.json";
   // With passes: their finished tiles go into the resume file too.
-  // About 2.4 s of rendering on one idle core pair: long enough that the
-  // signal at 0.8 s lands mid-render, and 0.8 s is long enough for glint to
-  // have installed its handlers even on a loaded machine (at 0.2 s a loaded
-  // machine sometimes had not, and the default action killed it).
   const std::string size = " --width 240 --height 135 --spp 64 --threads 2 --passes diffuse,depth";
   const std::string ref = (dir / "ref.pfm").string(), out = (dir / "out.pfm").string();
+  const auto ref_start = std::chrono::steady_clock::now();
   ASSERT_EQ(run(glint + " render " + scene + " -o " + ref + size + " --quiet"), 0);
+  const double ref_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ref_start).count();
 
-  // SIGINT after 0.8 s; the render must stop within a second of it.
+  // SIGINT half way through (as long as the whole render took here: a fixed
+  // delay hit sanitizer builds on a loaded machine before glint had even
+  // installed its handlers); the render must stop within a second of it.
+  const double delay = std::max(0.3, ref_seconds / 2);
+  char delay_text[32];
+  std::snprintf(delay_text, sizeof delay_text, "%.2f", delay);
   const auto start = std::chrono::steady_clock::now();
-  const int interrupted = run("timeout -s INT 0.8 " + glint + " render " + scene + " -o " + out + size +
-                              " --quiet 2>" + (dir / "err.txt").string());
+  const int interrupted = run("timeout -s INT " + std::string(delay_text) + " " + glint + " render " + scene +
+                              " -o " + out + size + " --quiet 2>" + (dir / "err.txt").string());
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (interrupted == 0) GTEST_SKIP() << "the render finished before the signal (machine too fast)";
   EXPECT_EQ(interrupted, 124);  // timeout's code for "had to signal it"
-  EXPECT_LT(seconds, 1.2 + 0.8);
+  EXPECT_LT(seconds, delay + 1.2);
   std::ifstream err(dir / "err.txt");
   std::string line;
   std::getline(err, line);
