@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -591,13 +592,15 @@ TEST(MeshFileErrors, PlyBadHeaders) {
 
 TEST(MeshFileErrors, PlyAbsurdCountsAreRefusedBeforeAllocating) {
   TempDir dir;
+  // Counts that would fit in memory but not in the file (claims beyond
+  // memory are refused earlier: MeshFileLimits below).
   std::string ascii = kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
-  ascii.replace(ascii.find("vertex 3"), 8, "vertex 4000000000");
+  ascii.replace(ascii.find("vertex 3"), 8, "vertex 4000000");
   expect_error(dir.write("ascii.ply", ascii),
-               "the header claims 4000000000 'vertex' elements but only 26 bytes of data follow", 3);
+               "the header claims 4000000 'vertex' elements but only 26 bytes of data follow", 3);
   std::string binary = binary_ply(false);
-  binary.replace(binary.find("face 2"), 6, "face 2000000000");
-  expect_error(dir.write("binary.ply", binary), "the header claims 2000000000 'face' elements", 10);
+  binary.replace(binary.find("face 2"), 6, "face 20000000");
+  expect_error(dir.write("binary.ply", binary), "the header claims 20000000 'face' elements", 10);
   // A list length that the rest of the file cannot hold.
   std::string list = binary_ply(false);
   list[list.size() - 13] = static_cast<char>(250);
@@ -636,11 +639,148 @@ TEST(MeshFileErrors, GltfBrokenData) {
   std::ifstream in(fixture("triangle.gltf"));
   const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::string count = good;
-  count.replace(count.find("\"count\": 3,"), 11, "\"count\": 300000000,");
+  count.replace(count.find("\"count\": 3,"), 11, "\"count\": 3000000,");
   expect_error(dir.write("count.gltf", count), "cannot read glTF");
   std::string missing = good;
   missing.replace(missing.find("data:application"), 16, "nowhere.bin#");
   expect_error(dir.write("missing.gltf", missing), "cannot read glTF");
+}
+
+// --- memory limits -------------------------------------------------------------
+
+// Claims in the gigabytes must exceed half of this machine's memory for the
+// tests that use the default budget; skip on machines too big for that.
+#define SKIP_IF_MEMORY_ABOVE(bytes)                                                              \
+  if (static_cast<double>(default_memory_budget()) >= (bytes))                                   \
+  GTEST_SKIP() << "this machine has too much memory for a " << (bytes) / double(1 << 30)         \
+               << " GiB claim to exceed half of it"
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The error's message for loading `path` with `budget` ("" if it loads).
+std::string message_for(const fs::path& path, size_t budget) {
+  try {
+    load_mesh_file(path, budget);
+  } catch (const Error& e) {
+    return e.message();
+  }
+  return "";
+}
+
+TEST(MeshFileLimits, PlyHeaderClaimingMoreThanHalfOfMemoryIsRefusedUpFront) {
+  SKIP_IF_MEMORY_ABOVE(4e9 * kBytesPerVertex);
+  TempDir dir;
+  // A 150-byte file whose header claims 4e9 vertices: refused before assimp
+  // (or the truncation check) sees it, at the vertex element's line.
+  std::string ply = kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  ply.replace(ply.find("vertex 3"), 8, "vertex 4000000000");
+  const fs::path p = dir.write("huge.ply", ply);
+  expect_error(p, "the header claims 4000000000 vertices and 1 face: that needs ", 3);
+  EXPECT_NE(message_for(p, default_memory_budget()).find("GiB, more than half of this machine's"), std::string::npos);
+  // Faces weigh more than vertices: the face line is the culprit.
+  std::string faces = binary_ply(false);
+  faces.replace(faces.find("face 2"), 6, "face 2000000000");
+  expect_error(dir.write("faces.ply", faces), "the header claims 5 vertices and 2000000000 faces: that needs ", 10);
+}
+
+TEST(MeshFileLimits, ExplicitBudgetRefusesWhatTheDefaultAllows) {
+  TempDir dir;
+  // 3 vertices and 10 faces (the same triangle): 3 * 24 + 10 * 100 = 1072
+  // bytes by the estimate, in a file of about 250.
+  std::string ply = kPlyHead + "0 0 0\n1 0 0\n0 1 0\n";
+  ply.replace(ply.find("face 1"), 6, "face 10");
+  for (int i = 0; i < 10; ++i) ply += "3 0 1 2\n";
+  const fs::path p = dir.write("small.ply", ply);
+  ASSERT_LT(fs::file_size(p), 1071u);
+  EXPECT_EQ(message_for(p, default_memory_budget()), "");
+  EXPECT_EQ(message_for(p, 1071),
+            "the header claims 3 vertices and 10 faces: that needs 1.05 KiB, more than the memory budget of 1.05 KiB");
+  EXPECT_EQ(message_for(p, 1072), "");
+}
+
+TEST(MeshFileLimits, GltfAccessorCountBeyondMemoryIsRefusedAtTheCount) {
+  SKIP_IF_MEMORY_ABOVE(4e9 * 12);
+  TempDir dir;
+  // The error is at the count's value: its line and column in the text.
+  auto expect_count_error = [&](const std::string& name, const std::string& text) {
+    const size_t at = text.find("4000000000");
+    const size_t line_start = text.rfind('\n', at) + 1;
+    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<ptrdiff_t>(at), '\n'));
+    expect_error(dir.write(name, text), "accessors[0].count: 4000000000 elements: that needs 44.7 GiB, more than half",
+                 line, static_cast<int>(at - line_start) + 1);
+  };
+  std::string gltf = slurp(fixture("triangle.gltf"));
+  gltf.replace(gltf.find("\"count\": 3,"), 11, "\"count\": 4000000000,");
+  expect_count_error("huge.gltf", gltf);
+  // No buffer at all (a sparse or all-zero accessor): assimp would allocate it.
+  std::string zeros = gltf;
+  zeros.erase(zeros.find("\"bufferView\": 0,"), 16);
+  expect_count_error("zeros.gltf", zeros);
+}
+
+TEST(MeshFileLimits, GltfInstancesCountAgainstTheBudget) {
+  // triangle.gltf's mesh placed by 20 nodes.
+  std::string gltf = slurp(fixture("triangle.gltf"));
+  std::string nodes, refs;
+  for (int i = 0; i < 20; ++i) {
+    const std::string sep = i ? "," : "";
+    nodes += sep + "{\"mesh\":0,\"translation\":[" + std::to_string(2 * i) + ",0,0]}";
+    refs += sep + std::to_string(i);
+  }
+  const size_t scenes = gltf.find("\"scenes\"");
+  gltf.replace(scenes, gltf.find("\"meshes\"") - scenes,
+               "\"scenes\": [{\"nodes\": [" + refs + "]}], \"nodes\": [" + nodes + "], ");
+  TempDir dir;
+  const fs::path p = dir.write("twenty.gltf", gltf);
+  // 42 bytes of accessor data, 20 instances of 3 vertices and 1 triangle:
+  // 42 + 20 * (3 * 24 + 100) = 3482 bytes, in a file of about 2 KiB.
+  ASSERT_LT(fs::file_size(p), 3481u);
+  EXPECT_EQ(load_mesh_file(p, 3482).triangle_count(), 20u);
+  EXPECT_EQ(message_for(p, 3481),
+            "the accessors claim 60 vertices and 20 triangles (instances counted): that needs 3.4 KiB, more than the "
+            "memory budget of 3.4 KiB");
+}
+
+TEST(MeshFileLimits, GlbJsonChunkIsCheckedToo) {
+  SKIP_IF_MEMORY_ABOVE(4e9 * 12);
+  TempDir dir;
+  std::string glb = slurp(fs::path(GLINT_SOURCE_DIR) / "fuzz/corpus/glb/triangle.glb");
+  const size_t at = glb.find("\"count\":3,");
+  ASSERT_NE(at, std::string::npos);
+  glb.replace(at, 10, "\"count\":4000000000,");  // 9 bytes longer: fix both lengths
+  auto add_to_u32 = [&](size_t offset, uint32_t add) {
+    uint32_t v;
+    std::memcpy(&v, glb.data() + offset, 4);
+    v += add;
+    std::memcpy(glb.data() + offset, &v, 4);
+  };
+  add_to_u32(8, 9);
+  add_to_u32(12, 9);
+  expect_error(dir.write("huge.glb", glb), "accessors[0].count: 4000000000 elements: that needs");
+  std::string cut = glb.substr(0, 30);
+  expect_error(dir.write("cut.glb", cut), "truncated");
+}
+
+TEST(MeshFileLimits, FilesLargerThanTheBudgetAreNotRead) {
+  TempDir dir;
+  const fs::path cube = dir.write("cube.obj", slurp(fixture("cube.obj")));
+  const size_t size = fs::file_size(cube);
+  EXPECT_EQ(message_for(cube, size), "");
+  EXPECT_EQ(message_for(cube, size - 1).rfind("file of " + std::to_string(size) + " B: reading it needs", 0), 0u)
+      << message_for(cube, size - 1);
+  // With the machine's budget: a sparse file (no disk space used) just beyond it.
+  const fs::path big = dir.write("big.ply", "ply\n");
+  fs::resize_file(big, default_memory_budget() + 1);
+  expect_error(big, "reading it needs");
+}
+
+TEST(MeshFileLimits, DevicesAreNotMeshFiles) {
+  TempDir dir;
+  fs::create_symlink("/dev/zero", dir.path() / "zero.obj");
+  expect_error(dir.path() / "zero.obj", "not a regular file");
 }
 
 // assimp 5.2's base64 decoder leaks its buffer when it throws on a bad
@@ -657,10 +797,6 @@ struct LeakCheckPause {
 // result or throws glint::Error; nothing else escapes and nothing crashes.
 TEST(MeshFileErrors, DamagedFilesOnlyEverThrowGlintErrors) {
   TempDir dir;
-  auto slurp = [](const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  };
   const std::vector<std::pair<std::string, std::string>> originals = {
       {"m.obj", slurp(fixture("normals.obj"))},    {"q.obj", slurp(fixture("quads.obj"))},
       {"a.ply", slurp(fixture("quad_normals.ply"))}, {"le.ply", binary_ply(false)},

@@ -26,6 +26,7 @@
 #include <charconv>
 #include <cmath>
 #include <cfloat>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <istream>
@@ -39,6 +40,7 @@
 
 #include "glint/error.h"
 #include "glint/io/file_io.h"
+#include "glint/io/json.h"
 
 namespace glint {
 namespace fs = std::filesystem;
@@ -73,6 +75,13 @@ std::string name_list(const std::vector<std::string>& names) {
   for (size_t i = 0; i < names.size() && i < 3; ++i) out += (i ? ", '" : "'") + names[i] + "'";
   if (names.size() > 3) out += " and " + std::to_string(names.size() - 3) + " more";
   return out;
+}
+
+// A count as a whole number, also beyond 64 bits ("4000000000", "1e+300").
+std::string format_count(double n) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, n < 1e15 ? "%.0f" : "%.3g", n);
+  return buf;
 }
 
 bool is_finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -983,6 +992,12 @@ PlyHeader read_ply_header(std::string_view data, const std::string& file) {
       const auto count = parse_integer(tok[2].text);
       if (!count || *count < 0)
         fail(file, "bad PLY element count '" + std::string(tok[2].text) + "'", n, tok[2].column);
+      // assimp leaks on a repeated element (found by fuzz_mesh_ply), and
+      // which of two 'face' lists would be meant is anyone's guess.
+      for (const PlyElement& el : h.elements)
+        if (el.name == tok[1].text)
+          fail(file, "PLY element '" + el.name + "' declared twice (first on line " + std::to_string(el.line) + ")", n,
+               tok[1].column);
       h.elements.push_back({std::string(tok[1].text), static_cast<uint64_t>(*count), n, {}});
     } else if (key == "property") {
       if (h.elements.empty()) fail(file, "PLY property before any element", n);
@@ -1063,6 +1078,22 @@ void check_ply_counts(const PlyHeader& h, size_t data_bytes, const std::string& 
                "' elements but only " + plural(data_bytes, "byte", "bytes") + " of data follow",
            el.line);
   }
+}
+
+// What the header's counts would take in memory once read (at least one
+// triangle per face), refused before assimp allocates anything for them.
+void check_ply_memory(const PlyHeader& h, const PlyLayout& l, size_t budget, const std::string& file) {
+  const PlyElement& vertex = h.elements[l.vertex];
+  const uint64_t faces = l.face >= 0 ? h.elements[l.face].count : 0;
+  const double vertex_bytes = kBytesPerVertex * static_cast<double>(vertex.count);
+  const double face_bytes = kBytesPerTriangle * static_cast<double>(faces);
+  const std::string excess = exceeds_budget(vertex_bytes + face_bytes, budget);
+  if (excess.empty()) return;
+  const int line = face_bytes > vertex_bytes ? h.elements[l.face].line : vertex.line;
+  fail(file,
+       "the header claims " + plural(vertex.count, "vertex", "vertices") + " and " + plural(faces, "face", "faces") +
+           ": that " + excess,
+       line);
 }
 
 uint64_t read_binary_uint(const unsigned char* p, size_t size, bool big_endian) {
@@ -1222,7 +1253,7 @@ Material map_assimp_material(const aiMaterial& a) {
 // PLY faces with fewer than 3 vertices are skipped with a warning; glTF
 // point and line primitives are simply not surfaces.
 void from_assimp(const aiScene& scene, const std::string& file, const fs::path& folder, bool is_ply,
-                 RawMesh& raw) {
+                 size_t budget, RawMesh& raw) {
   const bool use_materials = !is_ply;
   // Mesh instances with their node transforms (glTF scenes place and reuse meshes).
   struct Instance {
@@ -1231,6 +1262,7 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
   };
   std::vector<Instance> instances;
   size_t triangles = 0;
+  double vertices = 0;
   if (scene.mRootNode) {
     std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{{scene.mRootNode, scene.mRootNode->mTransformation}};
     size_t visits = 0;
@@ -1242,6 +1274,7 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
         const unsigned mi = node->mMeshes[i];
         if (mi >= scene.mNumMeshes || !scene.mMeshes[mi]) continue;
         triangles += scene.mMeshes[mi]->mNumFaces;
+        vertices += scene.mMeshes[mi]->mNumVertices;
         if (triangles > kMaxTriangles) fail(file, "too many triangles after instancing");
         instances.push_back({mi, m});
       }
@@ -1254,7 +1287,14 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
       if (scene.mMeshes[i]) {
         instances.push_back({i, aiMatrix4x4()});
         triangles += scene.mMeshes[i]->mNumFaces;
+        vertices += scene.mMeshes[i]->mNumVertices;
       }
+  // Every instance gets its own copy of the mesh: a few nodes can multiply a
+  // small mesh beyond memory.
+  const std::string excess =
+      exceeds_budget(kBytesPerTriangle * static_cast<double>(triangles) + kBytesPerVertex * vertices, budget);
+  if (!excess.empty())
+    fail(file, plural(triangles, "triangle", "triangles") + " after instancing: that " + excess);
   raw.indices.reserve(3 * triangles);  // exact for triangle meshes
   raw.normals.reserve(3 * triangles);
   raw.triangle_material.reserve(triangles);
@@ -1394,10 +1434,11 @@ std::string assimp_error(const Assimp::Importer& importer) {
   return e.empty() ? "unknown error" : e;
 }
 
-MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes) {
+MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes, size_t budget) {
   const std::string_view data(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   const PlyHeader header = read_ply_header(data, file);
   const PlyLayout layout = ply_layout(header, file);
+  check_ply_memory(header, layout, budget, file);
   check_ply_counts(header, data.size() - header.body, file);
   RawMesh raw;
   if (header.unknown_lines > 0)
@@ -1412,7 +1453,7 @@ MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes) {
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, "ply");
   if (!scene) fail(file, "cannot read PLY: " + assimp_error(importer));
-  from_assimp(*scene, file, {}, /*is_ply=*/true, raw);
+  from_assimp(*scene, file, {}, /*is_ply=*/true, budget, raw);
   // assimp keeps the file's vertex order, so PLY vertex numbers are the file's.
   if (raw.positions.size() != header.elements[layout.vertex].count)
     raw.bad_vertex_text.clear();  // numbering differs: report by position instead
@@ -1424,29 +1465,166 @@ MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes) {
   return finish(std::move(raw), file);
 }
 
-MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes,
-                   bool binary) {
-  // Only glTF content goes to assimp: it would otherwise guess another format.
-  if (binary) {
-    if (bytes.size() < 12 || std::memcmp(bytes.data(), "glTF", 4) != 0)
-      fail(file, "not a binary glTF file (no 'glTF' magic)");
-    const uint64_t declared = read_binary_uint(bytes.data() + 8, 4, false);
-    if (declared > bytes.size())
-      fail(file, "truncated: the header declares " + std::to_string(declared) + " bytes, the file has " +
-                     std::to_string(bytes.size()));
-  } else {
+// The glTF's JSON: all of a .gltf, or a .glb's first chunk, which must be JSON.
+// Only glTF content goes to assimp: it would otherwise guess another format.
+std::string gltf_json_text(const std::vector<unsigned char>& bytes, bool binary, const std::string& file) {
+  if (!binary) {
     size_t i = 0;
     if (bytes.size() >= 3 && std::memcmp(bytes.data(), "\xEF\xBB\xBF", 3) == 0) i = 3;
     while (i < bytes.size() && std::isspace(bytes[i])) ++i;
     if (i >= bytes.size() || bytes[i] != '{') fail(file, "not a glTF file (no JSON object)");
+    return std::string(bytes.begin(), bytes.end());
   }
+  if (bytes.size() < 12 || std::memcmp(bytes.data(), "glTF", 4) != 0)
+    fail(file, "not a binary glTF file (no 'glTF' magic)");
+  const uint64_t declared = read_binary_uint(bytes.data() + 8, 4, false);
+  if (declared > bytes.size())
+    fail(file, "truncated: the header declares " + std::to_string(declared) + " bytes, the file has " +
+                   std::to_string(bytes.size()));
+  if (bytes.size() < 20) fail(file, "truncated: no JSON chunk after the header");
+  const uint64_t length = read_binary_uint(bytes.data() + 12, 4, false);
+  if (std::memcmp(bytes.data() + 16, "JSON", 4) != 0) fail(file, "the first chunk is not the JSON chunk");
+  if (length > bytes.size() - 20)
+    fail(file, "truncated: the JSON chunk claims " + std::to_string(length) + " bytes, " +
+                   std::to_string(bytes.size() - 20) + " follow");
+  std::string text(bytes.begin() + 20, bytes.begin() + 20 + static_cast<ptrdiff_t>(length));
+  while (!text.empty() && text.back() == '\0') text.pop_back();  // padding some exporters write
+  return text;
+}
+
+// Bytes of one element of a glTF accessor (0 for types assimp will refuse).
+double gltf_element_bytes(const json::Value& accessor) {
+  const auto type = accessor.find("type");
+  const auto component = accessor.find("componentType");
+  if (!type || !type->is_string() || !component || !component->is_number()) return 0;
+  static const std::pair<std::string_view, int> kComponents[] = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3},
+                                                                  {"VEC4", 4},   {"MAT2", 4}, {"MAT3", 9},
+                                                                  {"MAT4", 16}};
+  int components = 0;
+  for (const auto& [name, n] : kComponents)
+    if (type->as_string() == name) components = n;
+  const double c = component->as_number();
+  const int size = c == 5120 || c == 5121 ? 1 : c == 5122 || c == 5123 ? 2 : c == 5125 || c == 5126 ? 4 : 0;
+  return double(components) * size;
+}
+
+// What the glTF specification requires and assimp 5.2 relies on without
+// checking: it leaks on an accessor without a valid componentType
+// (fuzz_mesh_glb) and dereferences null for a skin without
+// inverseBindMatrices (fuzz_mesh_gltf). glint ignores skins, but assimp
+// reads them.
+void check_gltf_structure(const json::Document& doc, bool binary, const std::string& file) {
+  const json::Value root = doc.root();
+  auto where = [&](const json::Value& v) { return binary ? SourceLocation{file, 0, 0} : v.location(); };
+  const auto accessors = root.find("accessors");
+  const size_t accessor_count = accessors && accessors->is_array() ? accessors->size() : 0;
+  for (size_t i = 0; i < accessor_count; ++i) {
+    const json::Value a = (*accessors)[i];
+    const std::string name = "accessors[" + std::to_string(i) + "]";
+    if (!a.is_object()) continue;  // assimp reports that one
+    if (gltf_element_bytes(a) == 0)
+      throw Error(where(a), name + ": needs a componentType of 5120, 5121, 5122, 5123, 5125 or 5126 and a type of "
+                                   "SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
+  }
+  const auto skins = root.find("skins");
+  for (size_t i = 0; skins && skins->is_array() && i < skins->size(); ++i) {
+    const json::Value skin = (*skins)[i];
+    const auto matrices = skin.find("inverseBindMatrices");
+    if (skin.is_object() && !(matrices && matrices->is_integer() && matrices->as_number() >= 0 &&
+                              matrices->as_number() < double(accessor_count)))
+      throw Error(where(skin), "skins[" + std::to_string(i) +
+                                   "]: needs inverseBindMatrices (an accessor index): the glTF reader "
+                                   "(assimp 5.2) cannot read a skin without them");
+  }
+}
+
+// An accessor's count as the file claims it (0 when it is no count at all,
+// which assimp reports itself).
+double gltf_count(const json::Value& accessor) {
+  const auto count = accessor.find("count");
+  return count && count->is_number() && count->as_number() > 0 ? count->as_number() : 0;
+}
+
+// What the glTF claims before assimp allocates for it: every accessor's data
+// (assimp allocates count x element size even for an accessor without a
+// buffer, e.g. a sparse one, so a 300-byte file can claim gigabytes), and the
+// meshes' vertices and triangles times the nodes that instance each mesh.
+void check_gltf_memory(const json::Document& doc, bool binary, size_t budget, const std::string& file) {
+  const json::Value root = doc.root();
+  // A .glb's JSON positions mean little to people: name the file only.
+  auto where = [&](const json::Value& v) { return binary ? SourceLocation{file, 0, 0} : v.location(); };
+  const auto accessors = root.find("accessors");
+  std::vector<double> counts;
+  double accessor_bytes = 0;
+  if (accessors && accessors->is_array()) {
+    for (size_t i = 0; i < accessors->size(); ++i) {
+      const json::Value a = (*accessors)[i];
+      counts.push_back(gltf_count(a));
+      const double bytes = counts.back() * gltf_element_bytes(a);
+      const std::string excess = exceeds_budget(bytes, budget);
+      if (!excess.empty())
+        throw Error(where(*a.find("count")), "accessors[" + std::to_string(i) + "].count: " +
+                                                 format_count(counts.back()) + " elements: that " + excess);
+      accessor_bytes += bytes;
+    }
+  }
+  auto count_of = [&](const std::optional<json::Value>& index) {
+    if (!index || !index->is_integer() || index->as_number() < 0 || index->as_number() >= double(counts.size()))
+      return 0.0;
+    return counts[static_cast<size_t>(index->as_number())];
+  };
+  const auto meshes = root.find("meshes");
+  const auto nodes = root.find("nodes");
+  double vertices = 0, triangles = 0;
+  for (size_t m = 0; meshes && m < meshes->size(); ++m) {
+    double instances = 0;
+    for (size_t n = 0; nodes && n < nodes->size(); ++n) {
+      const auto mesh = (*nodes)[n].find("mesh");
+      instances += mesh && mesh->is_number() && mesh->as_number() == double(m);
+    }
+    const auto primitives = (*meshes)[m].find("primitives");
+    for (size_t p = 0; primitives && p < primitives->size(); ++p) {
+      const json::Value primitive = (*primitives)[p];
+      const auto attributes = primitive.find("attributes");
+      const double positions = attributes ? count_of(attributes->find("POSITION")) : 0;
+      const auto indices = primitive.find("indices");
+      const double corners = indices ? count_of(indices) : positions;
+      const auto mode = primitive.find("mode");
+      const bool strip_or_fan = mode && mode->is_number() && (mode->as_number() == 5 || mode->as_number() == 6);
+      vertices += std::max(instances, 1.0) * positions;
+      triangles += std::max(instances, 1.0) * (strip_or_fan ? corners : corners / 3);
+    }
+  }
+  const std::string excess =
+      exceeds_budget(accessor_bytes + kBytesPerVertex * vertices + kBytesPerTriangle * triangles, budget);
+  if (!excess.empty())
+    fail(file, "the accessors claim " + format_count(vertices) + " vertices and " + format_count(triangles) +
+                   " triangles (instances counted): that " + excess);
+}
+
+json::Document parse_gltf_json(std::string text, bool binary, const std::string& file) {
+  try {
+    return json::parse(std::move(text), file);
+  } catch (const Error& e) {
+    if (!binary) throw;
+    fail(file, "JSON chunk: " + e.message());
+  }
+}
+
+MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes,
+                   bool binary, size_t budget) {
+  const json::Document doc = parse_gltf_json(gltf_json_text(bytes, binary, file), binary, file);
+  check_gltf_structure(doc, binary, file);
+  check_gltf_memory(doc, binary, budget, file);
   AssimpLogCapture log;
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path.string(), 0);
-  if (!scene) fail(file, "cannot read glTF: " + assimp_error(importer));
+  // assimp drops faces with out-of-range indices (with a log line), and then
+  // may fail for a mesh left without faces: the cause is the better message.
   if (log.contains("out-of-range indices")) fail(file, "face with a vertex index out of range");
+  if (!scene) fail(file, "cannot read glTF: " + assimp_error(importer));
   RawMesh raw;
-  from_assimp(*scene, file, path.parent_path(), /*is_ply=*/false, raw);
+  from_assimp(*scene, file, path.parent_path(), /*is_ply=*/false, budget, raw);
   // assimp adds a default material for primitives without one: not the file's.
   for (int32_t& m : raw.triangle_material)
     if (m >= 0 && raw.materials[m].name == AI_DEFAULT_MATERIAL_NAME) m = -1;
@@ -1457,7 +1635,7 @@ MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vec
 
 }  // namespace
 
-MeshFile load_mesh_file(const fs::path& path) {
+MeshFile load_mesh_file(const fs::path& path, size_t memory_budget) {
   const std::string file = path.string();
   try {
     std::error_code ec;
@@ -1467,11 +1645,19 @@ MeshFile load_mesh_file(const fs::path& path) {
     const std::string ext = lower(path.extension().string());
     if (ext != ".obj" && ext != ".ply" && ext != ".gltf" && ext != ".glb")
       fail(file, "unsupported mesh format '" + path.extension().string() + "' (supported: .obj, .ply, .gltf, .glb)");
+    // Not a device or a pipe: /dev/zero would be read until memory runs out.
+    if (!fs::is_regular_file(status)) fail(file, "not a regular file");
+    // The readers hold the whole file and more, so a file beyond the budget is refused unread.
+    const uintmax_t size = fs::file_size(path, ec);
+    if (!ec) {
+      const std::string excess = exceeds_budget(static_cast<double>(size), memory_budget);
+      if (!excess.empty()) fail(file, "file of " + format_bytes(static_cast<double>(size)) + ": reading it " + excess);
+    }
     std::vector<unsigned char> bytes = read_file(path);
     if (bytes.empty()) fail(file, "empty file");
     if (ext == ".obj") return load_obj(path, file, std::move(bytes));
-    if (ext == ".ply") return load_ply(file, std::move(bytes));
-    return load_gltf(path, file, bytes, ext == ".glb");
+    if (ext == ".ply") return load_ply(file, std::move(bytes), memory_budget);
+    return load_gltf(path, file, bytes, ext == ".glb", memory_budget);
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
