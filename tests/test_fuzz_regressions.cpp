@@ -63,9 +63,11 @@ std::string only_glint_errors(F&& f) {
 // json::parse and parse_scene throw nothing but glint::Error, and
 // validate_scene throws nothing and finds no error exactly when parse_scene
 // (reading relative paths from the same folder) loads the scene.
-// Mesh files (.obj, .ply) also go through the mesh reader, as fuzz_mesh_* do.
+// Mesh files (.obj, .ply, .gltf, .glb) also go through the mesh reader, as
+// fuzz_mesh_* do.
 void expect_only_glint_errors(const fs::path& file) {
-  if (file.extension() == ".obj" || file.extension() == ".ply") {
+  const fs::path ext = file.extension();
+  if (ext == ".obj" || ext == ".ply" || ext == ".gltf" || ext == ".glb") {
     EXPECT_EQ(only_glint_errors([&] { load_mesh_file(file); }), "") << "load_mesh_file on " << file;
   }
   const std::string text = read_bytes(file);
@@ -158,15 +160,42 @@ TEST(FuzzRegressions, SecondByteOrderMarkIsAnErrorAtItsStart) {
 namespace glint {
 namespace {
 
+// The error a regression mesh gives ("" if it loads).
+std::string mesh_error(const std::string& name) {
+  try {
+    load_mesh_file(kFuzzDir / "regressions/mesh" / name);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 // fuzz_mesh_ply: a PLY header with two format lines reached assimp, which
 // leaked; it is now refused by our header check.
 TEST(FuzzRegressions, PlyWithTwoFormatLinesIsRefused) {
-  try {
-    load_mesh_file(std::filesystem::path(GLINT_SOURCE_DIR) / "fuzz/regressions/mesh/ply-two-format-lines.ply");
-    FAIL() << "loaded";
-  } catch (const Error& e) {
-    EXPECT_NE(e.message().find("more than one format line"), std::string::npos) << e.what();
-  }
+  EXPECT_NE(mesh_error("ply-two-format-lines.ply").find("more than one format line"), std::string::npos);
+}
+
+// fuzz_mesh_ply: a header with two 'face' elements (a damaged header line
+// turned the rest into a second copy) made assimp leak the first face list.
+TEST(FuzzRegressions, PlyWithARepeatedElementIsRefused) {
+  const std::string e = mesh_error("ply-two-face-elements.ply");
+  EXPECT_NE(e.find(":13:9: PLY element 'face' declared twice (first on line 7)"), std::string::npos) << e;
+}
+
+// fuzz_mesh_glb: an index accessor without componentType made assimp leak
+// the faces it had built; every accessor now needs a valid componentType
+// and type (both required by the glTF specification).
+TEST(FuzzRegressions, GltfAccessorWithoutComponentTypeIsRefused) {
+  const std::string e = mesh_error("glb-accessor-without-component-type.glb");
+  EXPECT_NE(e.find(".glb: accessors[1]: needs a componentType of 5120"), std::string::npos) << e;
+}
+
+// fuzz_mesh_gltf: a node with a skin whose inverseBindMatrices are missing
+// (optional in the specification) made assimp 5.2 dereference null.
+TEST(FuzzRegressions, GltfSkinWithoutInverseBindMatricesIsRefused) {
+  const std::string e = mesh_error("gltf-skin-without-inverse-bind-matrices.gltf");
+  EXPECT_NE(e.find(".gltf:28:15: skins[0]: needs inverseBindMatrices"), std::string::npos) << e;
 }
 
 }  // namespace
