@@ -517,7 +517,10 @@ TEST(MeshFileErrors, NotAMeshFile) {
   expect_error(dir.write("notes.ply", "hello\n"), "not a PLY file");
   expect_error(dir.write("notes.gltf", "<html></html>"), "not a glTF file");
   expect_error(dir.write("notes.glb", "just text, no magic"), "not a binary glTF file");
-  expect_error(dir.write("object.gltf", "{\"hello\": 1}"), "cannot read glTF");
+  expect_error(dir.write("object.gltf", "{\"hello\": 1}"), "no asset.version: not a glTF 2.0 file", 1, 1);
+  expect_error(dir.write("v1.gltf", "{\"asset\": {\"version\": \"1.0\"}, \"meshes\": {}}"),
+               "asset.version: glTF 1.0 is not supported (only glTF 2.0)", 1, 23);
+  expect_error(dir.write("no-meshes.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": {}}"), "cannot read glTF");
   expect_error(dir.write("obj-inside.gltf", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), "not a glTF file");
 }
 

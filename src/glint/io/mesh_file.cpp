@@ -15,9 +15,13 @@
 
 #include <tiny_obj_loader.h>
 
+#include <nlohmann/json.hpp>
+
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
+#include <assimp/MemoryIOWrapper.h>
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
@@ -1231,6 +1235,12 @@ void walk_ascii_ply(const PlyHeader& h, const PlyLayout& l, std::string_view dat
                            plural(vertices, "vertex", "vertices") + ")", n, v.column);
         }
       }
+      // One record per line: assimp reads the values as one stream, so
+      // anything extra shifts every later value (and made it leak on the
+      // garbage it then met: fuzz_mesh_ply).
+      if (t < tok.size())
+        fail(file, el.name + " " + std::to_string(r) + ": more values on the line than the header declares", n,
+             tok[t].column);
     }
   }
 }
@@ -1508,42 +1518,165 @@ double gltf_element_bytes(const json::Value& accessor) {
   return double(components) * size;
 }
 
-// What the glTF specification requires and assimp 5.2 relies on without
-// checking: it leaks on an accessor without a valid componentType
-// (fuzz_mesh_glb) and dereferences null for a skin without
-// inverseBindMatrices (fuzz_mesh_gltf). glint ignores skins, but assimp
-// reads them.
-void check_gltf_structure(const json::Document& doc, bool binary, const std::string& file) {
-  const json::Value root = doc.root();
-  auto where = [&](const json::Value& v) { return binary ? SourceLocation{file, 0, 0} : v.location(); };
-  const auto accessors = root.find("accessors");
-  const size_t accessor_count = accessors && accessors->is_array() ? accessors->size() : 0;
-  for (size_t i = 0; i < accessor_count; ++i) {
-    const json::Value a = (*accessors)[i];
-    const std::string name = "accessors[" + std::to_string(i) + "]";
-    if (!a.is_object()) continue;  // assimp reports that one
-    if (gltf_element_bytes(a) == 0)
-      throw Error(where(a), name + ": needs a componentType of 5120, 5121, 5122, 5123, 5125 or 5126 and a type of "
-                                   "SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
-  }
-  const auto skins = root.find("skins");
-  for (size_t i = 0; skins && skins->is_array() && i < skins->size(); ++i) {
-    const json::Value skin = (*skins)[i];
-    const auto matrices = skin.find("inverseBindMatrices");
-    if (skin.is_object() && !(matrices && matrices->is_integer() && matrices->as_number() >= 0 &&
-                              matrices->as_number() < double(accessor_count)))
-      throw Error(where(skin), "skins[" + std::to_string(i) +
-                                   "]: needs inverseBindMatrices (an accessor index): the glTF reader "
-                                   "(assimp 5.2) cannot read a skin without them");
-  }
-}
-
 // An accessor's count as the file claims it (0 when it is no count at all,
 // which assimp reports itself).
 double gltf_count(const json::Value& accessor) {
   const auto count = accessor.find("count");
   return count && count->is_number() && count->as_number() > 0 ? count->as_number() : 0;
 }
+
+// A non-negative integer member, or nullopt.
+std::optional<double> gltf_index(const json::Value& object, std::string_view key) {
+  const auto v = object.find(key);
+  if (!v || !v->is_integer() || v->as_number() < 0) return std::nullopt;
+  return v->as_number();
+}
+
+// What the glTF specification requires and assimp 5.2 relies on without
+// checking, for what reaches it (see reduce_gltf_json): it leaks on an
+// accessor without a valid componentType or type (fuzz_mesh_glb) and on
+// indices that are not scalar integers; for sparse accessors it dereferences
+// null for a missing part and reads past the buffer for a count the buffer
+// views cannot hold (fuzz_mesh_gltf).
+void check_gltf_structure(const json::Document& doc, bool binary, const std::string& file) {
+  const json::Value root = doc.root();
+  auto where = [&](const json::Value& v) { return binary ? SourceLocation{file, 0, 0} : v.location(); };
+  // glTF 1.0 (objects where 2.0 has arrays) would go to assimp's glTF 1
+  // reader, unchecked by anything here.
+  const auto asset = root.find("asset");
+  const auto version = asset ? asset->find("version") : std::nullopt;
+  if (!version || !version->is_string()) throw Error(where(root), "no asset.version: not a glTF 2.0 file");
+  if (version->as_string().substr(0, 2) != "2.")
+    throw Error(where(*version), "asset.version: glTF " + std::string(version->as_string()) +
+                                     " is not supported (only glTF 2.0)");
+  const auto accessors = root.find("accessors");
+  const auto views = root.find("bufferViews");
+  const size_t view_count = views && views->is_array() ? views->size() : 0;
+  // byteLength of a buffer view by index; nullopt when there is no such view.
+  auto view_length = [&](const std::optional<double>& index) -> std::optional<double> {
+    if (!index || *index >= double(view_count)) return std::nullopt;
+    const auto length = gltf_index((*views)[static_cast<size_t>(*index)], "byteLength");
+    return length ? length : std::optional<double>(0.0);
+  };
+  for (size_t i = 0; accessors && accessors->is_array() && i < accessors->size(); ++i) {
+    const json::Value a = (*accessors)[i];
+    const std::string name = "accessors[" + std::to_string(i) + "]";
+    if (!a.is_object()) continue;  // assimp reports that one
+    const double element = gltf_element_bytes(a);
+    if (element == 0)
+      throw Error(where(a), name + ": needs a componentType of 5120, 5121, 5122, 5123, 5125 or 5126 and a type of "
+                                   "SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
+    const auto sparse = a.find("sparse");
+    if (!sparse) continue;
+    auto bad_sparse = [&](const std::string& what) { throw Error(where(*sparse), name + ".sparse: " + what); };
+    const auto count = sparse->is_object() ? gltf_index(*sparse, "count") : std::nullopt;
+    if (!count || *count < 1 || *count > gltf_count(a))
+      bad_sparse("needs a count from 1 to the accessor's count");
+    const auto indices = sparse->find("indices"), values = sparse->find("values");
+    if (!indices || !indices->is_object() || !values || !values->is_object())
+      bad_sparse("needs 'indices' and 'values' objects");
+    const auto index_type = indices->find("componentType");
+    const double t = index_type && index_type->is_number() ? index_type->as_number() : 0;
+    const double index_bytes = t == 5121 ? 1 : t == 5123 ? 2 : t == 5125 ? 4 : 0;
+    if (index_bytes == 0) bad_sparse("indices need a componentType of 5121, 5123 or 5125");
+    const auto index_view = view_length(gltf_index(*indices, "bufferView"));
+    const auto value_view = view_length(gltf_index(*values, "bufferView"));
+    if (!index_view || !value_view) bad_sparse("indices and values each need a bufferView that exists");
+    if (gltf_index(*indices, "byteOffset").value_or(0) + *count * index_bytes > *index_view ||
+        gltf_index(*values, "byteOffset").value_or(0) + *count * element > *value_view)
+      bad_sparse(format_count(*count) + " entries do not fit in their buffer views");
+  }
+  // Indices must be unsigned integer scalars.
+  const auto meshes = root.find("meshes");
+  for (size_t m = 0; meshes && meshes->is_array() && m < meshes->size(); ++m) {
+    const auto primitives = (*meshes)[m].find("primitives");
+    for (size_t p = 0; primitives && primitives->is_array() && p < primitives->size(); ++p) {
+      const auto index = gltf_index((*primitives)[p], "indices");
+      if (!index || !accessors || *index >= double(accessors->size())) continue;  // assimp reports those
+      const json::Value a = (*accessors)[static_cast<size_t>(*index)];
+      const auto type = a.find("type");
+      const auto component = a.find("componentType");
+      const double c = component && component->is_number() ? component->as_number() : 0;
+      if (!type || !type->is_string() || type->as_string() != "SCALAR" || (c != 5121 && c != 5123 && c != 5125))
+        throw Error(where(*(*primitives)[p].find("indices")),
+                    "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) +
+                        "].indices: must be a SCALAR accessor of 5121, 5123 or 5125 (unsigned integers)");
+    }
+  }
+}
+
+// What glint reads from a glTF is the node tree, the meshes' positions,
+// normals and indices, and the materials. Skins, animations, morph targets,
+// cameras and the other vertex attributes are dropped before assimp sees the
+// file: glint would ignore them, and assimp 5.2 crashes or leaks on many
+// malformed ones (a skin without inverseBindMatrices, an animation channel
+// without a target, float joints: fuzz_mesh_gltf). `text` is valid JSON.
+std::string reduce_gltf_json(const std::string& text) {
+  using NJson = nlohmann::json;
+  NJson j = NJson::parse(text);
+  if (!j.is_object()) return text;
+  for (const char* key : {"animations", "skins", "cameras"}) j.erase(key);
+  if (auto nodes = j.find("nodes"); nodes != j.end() && nodes->is_array())
+    for (NJson& node : *nodes)
+      if (node.is_object())
+        for (const char* key : {"skin", "camera", "weights"}) node.erase(key);
+  if (auto meshes = j.find("meshes"); meshes != j.end() && meshes->is_array())
+    for (NJson& mesh : *meshes) {
+      if (!mesh.is_object()) continue;
+      mesh.erase("weights");
+      auto primitives = mesh.find("primitives");
+      if (primitives == mesh.end() || !primitives->is_array()) continue;
+      for (NJson& primitive : *primitives) {
+        if (!primitive.is_object()) continue;
+        primitive.erase("targets");
+        auto attributes = primitive.find("attributes");
+        if (attributes == primitive.end() || !attributes->is_object()) continue;
+        for (auto it = attributes->begin(); it != attributes->end();)
+          it = it.key() == "POSITION" || it.key() == "NORMAL" ? std::next(it) : attributes->erase(it);
+      }
+    }
+  return j.dump(-1, ' ', false, NJson::error_handler_t::replace);
+}
+
+// The file as assimp gets it: the reduced JSON, in a GLB with the file's
+// other chunks (its binary buffer) when the file is one.
+std::string reduced_gltf_file(const std::vector<unsigned char>& bytes, bool binary, const std::string& json_text) {
+  std::string json = reduce_gltf_json(json_text);
+  if (!binary) return json;
+  while (json.size() % 4) json += ' ';  // chunks stay 4-byte aligned
+  const uint64_t declared = read_binary_uint(bytes.data() + 8, 4, false);
+  const uint64_t rest = 20 + read_binary_uint(bytes.data() + 12, 4, false);
+  const std::string tail = rest < declared ? std::string(bytes.begin() + static_cast<ptrdiff_t>(rest),
+                                                         bytes.begin() + static_cast<ptrdiff_t>(declared))
+                                           : std::string();
+  auto u32 = [](uint64_t v) {
+    const char b[4] = {char(v & 0xff), char((v >> 8) & 0xff), char((v >> 16) & 0xff), char((v >> 24) & 0xff)};
+    return std::string(b, 4);
+  };
+  return std::string(reinterpret_cast<const char*>(bytes.data()), 8) + u32(20 + json.size() + tail.size()) +
+         u32(json.size()) + "JSON" + json + tail;
+}
+
+// Serves the glTF file itself from memory (reduced) and every file it names
+// (external buffers, images) from disk, relative to it as assimp resolves
+// them; only regular files, since opening a FIFO a buffer names would block.
+class ReducedGltfIO final : public Assimp::DefaultIOSystem {
+ public:
+  ReducedGltfIO(std::string path, std::string bytes) : path_(std::move(path)), bytes_(std::move(bytes)) {}
+  bool Exists(const char* file) const override { return path_ == file || is_regular(file); }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (path_ == file)
+      return new Assimp::MemoryIOStream(reinterpret_cast<const uint8_t*>(bytes_.data()), bytes_.size());
+    return is_regular(file) ? DefaultIOSystem::Open(file, mode) : nullptr;
+  }
+
+ private:
+  static bool is_regular(const char* file) {
+    std::error_code ec;
+    return fs::is_regular_file(file, ec);
+  }
+  std::string path_, bytes_;
+};
 
 // What the glTF claims before assimp allocates for it: every accessor's data
 // (assimp allocates count x element size even for an accessor without a
@@ -1576,14 +1709,14 @@ void check_gltf_memory(const json::Document& doc, bool binary, size_t budget, co
   const auto meshes = root.find("meshes");
   const auto nodes = root.find("nodes");
   double vertices = 0, triangles = 0;
-  for (size_t m = 0; meshes && m < meshes->size(); ++m) {
+  for (size_t m = 0; meshes && meshes->is_array() && m < meshes->size(); ++m) {
     double instances = 0;
-    for (size_t n = 0; nodes && n < nodes->size(); ++n) {
+    for (size_t n = 0; nodes && nodes->is_array() && n < nodes->size(); ++n) {
       const auto mesh = (*nodes)[n].find("mesh");
       instances += mesh && mesh->is_number() && mesh->as_number() == double(m);
     }
     const auto primitives = (*meshes)[m].find("primitives");
-    for (size_t p = 0; primitives && p < primitives->size(); ++p) {
+    for (size_t p = 0; primitives && primitives->is_array() && p < primitives->size(); ++p) {
       const json::Value primitive = (*primitives)[p];
       const auto attributes = primitive.find("attributes");
       const double positions = attributes ? count_of(attributes->find("POSITION")) : 0;
@@ -1613,11 +1746,15 @@ json::Document parse_gltf_json(std::string text, bool binary, const std::string&
 
 MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes,
                    bool binary, size_t budget) {
-  const json::Document doc = parse_gltf_json(gltf_json_text(bytes, binary, file), binary, file);
-  check_gltf_structure(doc, binary, file);
-  check_gltf_memory(doc, binary, budget, file);
+  const std::string json_text = gltf_json_text(bytes, binary, file);
+  {
+    const json::Document doc = parse_gltf_json(json_text, binary, file);
+    check_gltf_structure(doc, binary, file);
+    check_gltf_memory(doc, binary, budget, file);
+  }
   AssimpLogCapture log;
   Assimp::Importer importer;
+  importer.SetIOHandler(new ReducedGltfIO(path.string(), reduced_gltf_file(bytes, binary, json_text)));
   const aiScene* scene = importer.ReadFile(path.string(), 0);
   // assimp drops faces with out-of-range indices (with a log line), and then
   // may fail for a mesh left without faces: the cause is the better message.
