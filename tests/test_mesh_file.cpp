@@ -738,13 +738,14 @@ TEST(MeshFileLimits, GltfInstancesCountAgainstTheBudget) {
                "\"scenes\": [{\"nodes\": [" + refs + "]}], \"nodes\": [" + nodes + "], ");
   TempDir dir;
   const fs::path p = dir.write("twenty.gltf", gltf);
-  // 42 bytes of accessor data, 20 instances of 3 vertices and 1 triangle:
-  // 42 + 20 * (3 * 24 + 100) = 3482 bytes, in a file of about 2 KiB.
-  ASSERT_LT(fs::file_size(p), 3481u);
-  EXPECT_EQ(load_mesh_file(p, 3482).triangle_count(), 20u);
-  EXPECT_EQ(message_for(p, 3481),
-            "the accessors claim 60 vertices and 20 triangles (instances counted): that needs 3.4 KiB, more than the "
-            "memory budget of 3.4 KiB");
+  // A 44-byte buffer, 42 bytes of accessor data, 20 instances of 3 vertices
+  // and 1 triangle: 44 + 42 + 20 * (3 * 24 + 100) = 3526 bytes, in a file of
+  // about 2 KiB.
+  ASSERT_LT(fs::file_size(p), 3525u);
+  EXPECT_EQ(load_mesh_file(p, 3526).triangle_count(), 20u);
+  EXPECT_EQ(message_for(p, 3525),
+            "the accessors claim 60 vertices and 20 triangles (instances counted): that needs 3.44 KiB, more than the "
+            "memory budget of 3.44 KiB");
 }
 
 TEST(MeshFileLimits, GlbJsonChunkIsCheckedToo) {
@@ -767,12 +768,46 @@ TEST(MeshFileLimits, GlbJsonChunkIsCheckedToo) {
   expect_error(dir.write("cut.glb", cut), "truncated");
 }
 
+TEST(MeshFileLimits, ObjTrianglesAreCheckedBeforeTheyAreBuilt) {
+  TempDir dir;
+  // One polygon of 250 corners: 248 triangles (about 30 KB by the
+  // estimate) from a file of about 3 KB.
+  std::string obj;
+  for (int i = 0; i < 250; ++i) {
+    obj += "v ";
+    obj += std::to_string(i);
+    obj += i % 2 ? " 1 0\n" : " 0 0\n";
+  }
+  obj += "f";
+  for (int i = 1; i <= 250; ++i) {
+    obj += ' ';
+    obj += std::to_string(i);
+  }
+  const fs::path p = dir.write("fan.obj", obj + "\n");
+  const double bytes = 248 * kBytesPerTriangle + 250 * kBytesPerVertex;
+  ASSERT_LT(double(fs::file_size(p)), bytes - 1);
+  EXPECT_EQ(message_for(p, size_t(bytes)), "");
+  EXPECT_EQ(message_for(p, size_t(bytes) - 1).rfind("248 triangles (about): that needs ", 0), 0u)
+      << message_for(p, size_t(bytes) - 1);
+}
+
+TEST(MeshFileLimits, GltfBufferLengthBeyondTheBudgetIsRefused) {
+  TempDir dir;
+  const fs::path p = dir.write("t.gltf", slurp(fixture("triangle.gltf")));
+  EXPECT_EQ(message_for(p, 10000), "");
+  std::string big = slurp(fixture("triangle.gltf"));
+  big.replace(big.find("\"byteLength\": 44"), 16, "\"byteLength\": 20000");
+  EXPECT_EQ(message_for(dir.write("big.gltf", big), 10000),
+            "buffers[0].byteLength: 20000 bytes: that needs 19.5 KiB, more than the memory budget of 9.77 KiB");
+}
+
 TEST(MeshFileLimits, FilesLargerThanTheBudgetAreNotRead) {
   TempDir dir;
-  const fs::path cube = dir.write("cube.obj", slurp(fixture("cube.obj")));
+  // A cube behind a long comment: more file than mesh.
+  const fs::path cube = dir.write("cube.obj", "# " + std::string(4000, '-') + "\n" + slurp(fixture("cube.obj")));
   const size_t size = fs::file_size(cube);
   EXPECT_EQ(message_for(cube, size), "");
-  EXPECT_EQ(message_for(cube, size - 1).rfind("file of " + std::to_string(size) + " B: reading it needs", 0), 0u)
+  EXPECT_EQ(message_for(cube, size - 1).rfind("file of " + format_bytes(double(size)) + ": reading it needs", 0), 0u)
       << message_for(cube, size - 1);
   // With the machine's budget: a sparse file (no disk space used) just beyond it.
   const fs::path big = dir.write("big.ply", "ply\n");

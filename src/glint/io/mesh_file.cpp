@@ -725,7 +725,7 @@ std::string utf16_to_utf8(std::string_view bytes, bool big_endian) {
   return out;
 }
 
-MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes) {
+MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes, size_t budget) {
   std::string converted;
   std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (text.size() >= 2 && (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF")) {
@@ -793,6 +793,12 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
     size_t estimate = 0;
     for (const auto& s : shapes)
       for (unsigned char n : s.mesh.num_face_vertices) estimate += n >= 3 ? n - 2 : 0;
+    // OBJ states no counts, but text is dense: "f 1 2 3 4 ..." makes a
+    // triangle per 2 bytes, 50 times that in memory. Checked once the
+    // library's compact arrays are read, before the large ones are made.
+    const std::string excess = exceeds_budget(
+        kBytesPerTriangle * double(estimate) + kBytesPerVertex * double(attrib.vertices.size() / 3), budget);
+    if (!excess.empty()) fail(file, plural(estimate, "triangle", "triangles") + " (about): that " + excess);
     raw.indices.reserve(3 * estimate);
     raw.normals.reserve(3 * estimate);
     raw.triangle_material.reserve(estimate);
@@ -1701,6 +1707,17 @@ void check_gltf_memory(const json::Document& doc, bool binary, size_t budget, co
       accessor_bytes += bytes;
     }
   }
+  // assimp holds every buffer whole (an external .bin may be any size).
+  const auto buffers = root.find("buffers");
+  for (size_t i = 0; buffers && buffers->is_array() && i < buffers->size(); ++i) {
+    const auto length = (*buffers)[i].find("byteLength");
+    if (!length || !length->is_number() || length->as_number() <= 0) continue;
+    const std::string excess = exceeds_budget(length->as_number(), budget);
+    if (!excess.empty())
+      throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " + format_count(length->as_number()) +
+                                      " bytes: that " + excess);
+    accessor_bytes += length->as_number();
+  }
   auto count_of = [&](const std::optional<json::Value>& index) {
     if (!index || !index->is_integer() || index->as_number() < 0 || index->as_number() >= double(counts.size()))
       return 0.0;
@@ -1792,7 +1809,7 @@ MeshFile load_mesh_file(const fs::path& path, size_t memory_budget) {
     }
     std::vector<unsigned char> bytes = read_file(path);
     if (bytes.empty()) fail(file, "empty file");
-    if (ext == ".obj") return load_obj(path, file, std::move(bytes));
+    if (ext == ".obj") return load_obj(path, file, std::move(bytes), memory_budget);
     if (ext == ".ply") return load_ply(file, std::move(bytes), memory_budget);
     return load_gltf(path, file, bytes, ext == ".glb", memory_budget);
   } catch (const Error&) {
