@@ -218,5 +218,14 @@ TEST(FuzzRegressions, PlyLineWithExtraValuesIsRefused) {
   EXPECT_NE(e.find(":17:13: vertex 1: more values on the line than the header declares"), std::string::npos) << e;
 }
 
+// fuzz_mesh_glb: an index accessor on a buffer view with a byte stride,
+// reaching past the view: assimp checks count x element size only, reads
+// the strided indices one by one, throws half-way and leaks the faces.
+TEST(FuzzRegressions, GltfAccessorBeyondItsStridedViewIsRefused) {
+  const std::string e = mesh_error("glb-indices-beyond-their-strided-view.glb");
+  EXPECT_NE(e.find(".glb: accessors[1]: 36 elements need 424 bytes of buffer view 0, which has 288"), std::string::npos)
+      << e;
+}
+
 }  // namespace
 }  // namespace glint

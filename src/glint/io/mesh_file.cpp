@@ -1572,6 +1572,19 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
     if (element == 0)
       throw Error(where(a), name + ": needs a componentType of 5120, 5121, 5122, 5123, 5125 or 5126 and a type of "
                                    "SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
+    // The specification's bound on an accessor within its view, stride
+    // included: assimp checks count x element size only, then reads strided
+    // elements past the view, throws half-way and leaks (fuzz_mesh_glb).
+    const auto view_index = gltf_index(a, "bufferView");
+    if (const auto length = view_length(view_index); length && gltf_count(a) > 0) {
+      const json::Value view = (*views)[static_cast<size_t>(*view_index)];
+      const double stride = gltf_index(view, "byteStride").value_or(0) > 0 ? *gltf_index(view, "byteStride") : element;
+      const double end = gltf_index(a, "byteOffset").value_or(0) + stride * (gltf_count(a) - 1) + element;
+      if (end > *length)
+        throw Error(where(a), name + ": " + format_count(gltf_count(a)) + " elements need " + format_count(end) +
+                                  " bytes of buffer view " + format_count(*view_index) + ", which has " +
+                                  format_count(*length));
+    }
     const auto sparse = a.find("sparse");
     if (!sparse) continue;
     auto bad_sparse = [&](const std::string& what) { throw Error(where(*sparse), name + ".sparse: " + what); };
