@@ -1779,8 +1779,9 @@ MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vec
   const std::string json_text = gltf_json_text(bytes, binary, file);
   {
     const json::Document doc = parse_gltf_json(json_text, binary, file);
-    check_gltf_structure(doc, binary, file);
+    // Memory first: a claim of billions is the news, not the buffer it overruns.
     check_gltf_memory(doc, binary, budget, file);
+    check_gltf_structure(doc, binary, file);
   }
   AssimpLogCapture log;
   Assimp::Importer importer;
