@@ -6,7 +6,12 @@
 // - .ply, .gltf, .glb: assimp. Its PLY reader crashes, aborts or hangs on
 //   truncated or inconsistent files, so every PLY is checked first against its
 //   own header (counts against the file size, every record present, indices
-//   in range) by a structural walk that stores nothing.
+//   in range) by a structural walk that stores nothing. Its glTF reader trusts
+//   the JSON: glint's JSON reader checks it first (what it claims in memory,
+//   accessors within their views, sparse parts), and assimp gets it reduced
+//   to what glint uses (no skins, animations, morph targets or cameras).
+// - Every format: what the file claims or implies in memory is checked
+//   against a budget (memory_limit.h) before it is allocated.
 // Then, for every format: polygons triangulated (quads on the shorter
 // diagonal, larger polygons as fans), NaN/Inf vertices used by a triangle are
 // errors, zero-area triangles dropped with one counted warning, corner normals
