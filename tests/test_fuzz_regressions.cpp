@@ -227,5 +227,13 @@ TEST(FuzzRegressions, GltfAccessorBeyondItsStridedViewIsRefused) {
       << e;
 }
 
+// fuzz_mesh_glb: a LINE_LOOP primitive (mode 2) with out-of-range indices
+// made assimp 5.2 dereference null (in Release too). Line loops reach it as
+// line strips now (glint ignores lines), so the indices are the error.
+TEST(FuzzRegressions, GltfLineLoopWithIndicesOutOfRangeIsAnError) {
+  const std::string e = mesh_error("glb-line-loop-indices-out-of-range.glb");
+  EXPECT_NE(e.find(".glb: face with a vertex index out of range"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace glint

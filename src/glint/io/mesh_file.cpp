@@ -1634,7 +1634,8 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
 // cameras and the other vertex attributes are dropped before assimp sees the
 // file: glint would ignore them, and assimp 5.2 crashes or leaks on many
 // malformed ones (a skin without inverseBindMatrices, an animation channel
-// without a target, float joints: fuzz_mesh_gltf). `text` is valid JSON.
+// without a target, float joints: fuzz_mesh_gltf). LINE_LOOPs become
+// LINE_STRIPs (see below). `text` is valid JSON.
 std::string reduce_gltf_json(const std::string& text) {
   using NJson = nlohmann::json;
   NJson j = NJson::parse(text);
@@ -1653,6 +1654,10 @@ std::string reduce_gltf_json(const std::string& text) {
       for (NJson& primitive : *primitives) {
         if (!primitive.is_object()) continue;
         primitive.erase("targets");
+        // Lines are no surfaces to glint, but assimp 5.2 dereferences null
+        // closing a LINE_LOOP whose indices are out of range (fuzz_mesh_glb):
+        // a LINE_STRIP is read the same way, without the closing segment.
+        if (auto mode = primitive.find("mode"); mode != primitive.end() && *mode == 2) *mode = 3;
         auto attributes = primitive.find("attributes");
         if (attributes == primitive.end() || !attributes->is_object()) continue;
         for (auto it = attributes->begin(); it != attributes->end();)
