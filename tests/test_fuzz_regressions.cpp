@@ -235,5 +235,19 @@ TEST(FuzzRegressions, GltfLineLoopWithIndicesOutOfRangeIsAnError) {
   EXPECT_NE(e.find(".glb: face with a vertex index out of range"), std::string::npos) << e;
 }
 
+// Found by hand next to the LINE_LOOP finding: primitives with fewer indices
+// than one point, line or triangle needs made assimp leak (a line strip of
+// one index, a fan of two) or wrap the face count to 2^64 and fail to
+// allocate (a strip of one). Such primitives are refused first.
+TEST(FuzzRegressions, GltfPrimitivesWithTooFewIndicesAreRefused) {
+  EXPECT_NE(mesh_error("gltf-strip-with-one-index.gltf")
+                .find(".gltf:1:270: meshes[0].primitives[0]: 1 indices are too few for mode 5 (at least 3)"),
+            std::string::npos);
+  EXPECT_NE(mesh_error("gltf-fan-with-two-indices.gltf").find("2 indices are too few for mode 6 (at least 3)"),
+            std::string::npos);
+  EXPECT_NE(mesh_error("gltf-line-strip-with-one-index.gltf").find("1 indices are too few for mode 3 (at least 2)"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace glint

@@ -1543,6 +1543,38 @@ std::optional<double> gltf_index(const json::Value& object, std::string_view key
   return v->as_number();
 }
 
+// One primitive's indices: unsigned integer scalars (assimp leaked on a VEC3
+// index accessor), and at least as many corners (indices, or positions
+// without them) as its mode needs for one point, line or triangle: with fewer,
+// assimp leaked (lines, fans) or wrapped a count to 2^64 (strips, fans).
+template <class Where>
+void check_gltf_primitive(const json::Value& primitive, const std::optional<json::Value>& accessors, Where where,
+                          const std::string& name) {
+  auto accessor = [&](const std::optional<double>& index) -> std::optional<json::Value> {
+    if (!index || !accessors || !accessors->is_array() || *index >= double(accessors->size())) return std::nullopt;
+    return (*accessors)[static_cast<size_t>(*index)];  // else assimp reports it
+  };
+  const auto indices = accessor(gltf_index(primitive, "indices"));
+  if (indices) {
+    const auto type = indices->find("type");
+    const auto component = indices->find("componentType");
+    const double c = component && component->is_number() ? component->as_number() : 0;
+    if (!type || !type->is_string() || type->as_string() != "SCALAR" || (c != 5121 && c != 5123 && c != 5125))
+      throw Error(where(*primitive.find("indices")),
+                  name + ".indices: must be a SCALAR accessor of 5121, 5123 or 5125 (unsigned integers)");
+  }
+  const auto attributes = primitive.find("attributes");
+  const auto positions = attributes ? accessor(gltf_index(*attributes, "POSITION")) : std::nullopt;
+  const auto corners = indices ? indices : positions;
+  if (!corners) return;
+  const double mode = gltf_index(primitive, "mode").value_or(4);
+  const double needed = mode == 0 ? 1 : mode <= 3 ? 2 : 3;
+  if (gltf_count(*corners) < needed)
+    throw Error(where(primitive), name + ": " + format_count(gltf_count(*corners)) + (indices ? " indices" : " vertices") +
+                                      " are too few for mode " + format_count(mode) + " (at least " +
+                                      format_count(needed) + ")");
+}
+
 // What the glTF specification requires and assimp 5.2 relies on without
 // checking, for what reaches it (see reduce_gltf_json): it leaks on an
 // accessor without a valid componentType or type (fuzz_mesh_glb) and on
@@ -1610,22 +1642,12 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
         gltf_index(*values, "byteOffset").value_or(0) + *count * element > *value_view)
       bad_sparse(format_count(*count) + " entries do not fit in their buffer views");
   }
-  // Indices must be unsigned integer scalars.
   const auto meshes = root.find("meshes");
   for (size_t m = 0; meshes && meshes->is_array() && m < meshes->size(); ++m) {
     const auto primitives = (*meshes)[m].find("primitives");
-    for (size_t p = 0; primitives && primitives->is_array() && p < primitives->size(); ++p) {
-      const auto index = gltf_index((*primitives)[p], "indices");
-      if (!index || !accessors || *index >= double(accessors->size())) continue;  // assimp reports those
-      const json::Value a = (*accessors)[static_cast<size_t>(*index)];
-      const auto type = a.find("type");
-      const auto component = a.find("componentType");
-      const double c = component && component->is_number() ? component->as_number() : 0;
-      if (!type || !type->is_string() || type->as_string() != "SCALAR" || (c != 5121 && c != 5123 && c != 5125))
-        throw Error(where(*(*primitives)[p].find("indices")),
-                    "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) +
-                        "].indices: must be a SCALAR accessor of 5121, 5123 or 5125 (unsigned integers)");
-    }
+    for (size_t p = 0; primitives && primitives->is_array() && p < primitives->size(); ++p)
+      check_gltf_primitive((*primitives)[p], accessors, where,
+                           "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) + "]");
   }
 }
 
