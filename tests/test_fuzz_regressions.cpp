@@ -249,5 +249,20 @@ TEST(FuzzRegressions, GltfPrimitivesWithTooFewIndicesAreRefused) {
             std::string::npos);
 }
 
+// fuzz_mesh_glb: a TRIANGLE_STRIP primitive without attributes (the key was
+// damaged): assimp computed 0 - 2 faces and tried to allocate 64 GiB.
+TEST(FuzzRegressions, GltfStripWithoutPositionsIsRefused) {
+  const std::string e = mesh_error("glb-strip-without-attributes.glb");
+  EXPECT_NE(e.find(".glb: meshes[0].primitives[0]: 0 vertices are too few for mode 5 (at least 3)"), std::string::npos)
+      << e;
+}
+
+// fuzz_mesh_gltf: an embedded PNG whose base64 had a bad character: assimp's
+// decoder threw and leaked its buffer. glint never decodes images, so a bad
+// one reaches assimp as 3 zero bytes and the mesh loads.
+TEST(FuzzRegressions, GltfImageWithBadBase64IsNotDecoded) {
+  EXPECT_EQ(mesh_error("gltf-image-with-bad-base64.gltf"), "");
+}
+
 }  // namespace
 }  // namespace glint

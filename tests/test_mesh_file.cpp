@@ -645,6 +645,10 @@ TEST(MeshFileErrors, GltfBrokenData) {
   count.replace(count.find("\"count\": 3,"), 11, "\"count\": 3000000,");
   expect_error(dir.write("count.gltf", count),
                "accessors[0]: 3000000 elements need 36000000 bytes of buffer view 0, which has 36", 63, 3);
+  // A buffer's base64 must decode (assimp's decoder leaks when it throws).
+  std::string base64 = good;
+  base64[base64.find("base64,AAAA") + 7] = '*';
+  expect_error(dir.write("base64.gltf", base64), "buffers[0].uri: a data URI whose base64 does not decode", 101, 11);
   std::string missing = good;
   missing.replace(missing.find("data:application"), 16, "nowhere.bin#");
   expect_error(dir.write("missing.gltf", missing), "cannot read glTF");
