@@ -2,7 +2,10 @@
 // file named mesh.GLINT_MESH_EXT (the loader picks its reader by extension)
 // and read with glint::load_mesh_file, which must return a mesh or throw
 // glint::Error, and nothing else: no other exception, crash, sanitizer
-// report, hang or absurd allocation. Built as fuzz_mesh_obj and fuzz_mesh_ply.
+// report, hang or absurd allocation. Built as fuzz_mesh_obj, fuzz_mesh_ply,
+// fuzz_mesh_gltf and fuzz_mesh_glb. The loader gets a memory budget of
+// 512 MiB, well under the fuzzer's 2 GiB RSS limit: a file that claims more
+// must be refused by glint's own checks, not run out of memory.
 // For OBJ, whatever follows a line "#MTL" is written beside it as m.mtl, so
 // the fuzzer mutates an OBJ and the MTL it names ("mtllib m.mtl") together.
 #include <unistd.h>
@@ -20,6 +23,7 @@
 
 namespace {
 
+constexpr size_t kMemoryBudget = size_t(512) << 20;
 std::filesystem::path scratch_dir;
 std::filesystem::path scratch_file;
 
@@ -62,7 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // A full /tmp is not a finding.
   if (!write_file(scratch_file, mesh) || !write_file(scratch_dir / "m.mtl", mtl)) return 0;
   try {
-    glint::MeshFile mesh = glint::load_mesh_file(scratch_file);
+    glint::MeshFile mesh = glint::load_mesh_file(scratch_file, kMemoryBudget);
     (void)mesh;
   } catch (const glint::Error&) {
   }

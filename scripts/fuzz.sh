@@ -11,7 +11,7 @@ shift || true
 TARGETS=("$@")
 if [ ${#TARGETS[@]} -eq 0 ]; then
   TARGETS=(fuzz_scene_loader fuzz_json)
-  [ -f src/glint/io/mesh_file.h ] && TARGETS+=(fuzz_mesh_obj fuzz_mesh_ply)
+  [ -f src/glint/io/mesh_file.h ] && TARGETS+=(fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_gltf fuzz_mesh_glb)
 fi
 case "$MINUTES" in ''|*[!0-9.]*) echo "usage: scripts/fuzz.sh [MINUTES] [TARGET...]" >&2; exit 2;; esac
 
@@ -35,6 +35,8 @@ for target in "${TARGETS[@]}"; do
     fuzz_json) seeds=(fuzz/corpus/json fuzz/corpus/scene) ;;
     fuzz_mesh_obj) seeds=(fuzz/corpus/obj); dict=fuzz/mesh.dict ;;
     fuzz_mesh_ply) seeds=(fuzz/corpus/ply); dict=fuzz/mesh.dict ;;
+    fuzz_mesh_gltf) seeds=(fuzz/corpus/gltf); dict=fuzz/gltf.dict ;;
+    fuzz_mesh_glb) seeds=(fuzz/corpus/glb); dict=fuzz/gltf.dict ;;
     *) echo "unknown target $target" >&2; exit 2 ;;
   esac
   # New inputs go to a corpus kept in the build dir (the first directory);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -778,6 +779,39 @@ TEST(SceneLoaderRender, PixelFilterAndAdaptiveErrors) {
                     "missing required key \"max_samples_per_pixel\"");
   expect_error_with(R"("render": {"adaptive": {"max_samples_per_pixel": 8, "threshold": @-1}}, "objects": [])",
                     "must be >= 0");
+}
+
+// Each mesh file fits the budget on its own; together they must fit too,
+// or the object whose file tips them over is the error, at its "file" key.
+TEST(SceneLoaderLimits, AllMeshesTogetherMustFitTheMemoryBudget) {
+  const fs::path meshes = fs::path(GLINT_SOURCE_DIR) / "tests" / "meshes";
+  const std::string text = std::string("{") + kCamera + R"(, "objects": [
+  {"type": "mesh", "file": "cube.obj"},
+  {"type": "mesh", "file": "cube.obj", "transform": {"translate": [3, 0, 0]}},
+  {"type": "mesh", "file": "quads.obj"}]})";
+  // The estimate the loader makes, from what it loads.
+  const Scene scene = parse_scene(text, "s.json", meshes);
+  ASSERT_EQ(scene.meshes.size(), 2u);  // cube.obj once, instanced twice
+  double bytes[2];
+  for (int i = 0; i < 2; ++i)
+    bytes[i] = kBytesPerVertex * double(scene.meshes[i].positions.size()) +
+               kBytesPerTriangle * double(scene.meshes[i].triangle_count());
+  const size_t both = static_cast<size_t>(bytes[0] + bytes[1]);
+  ASSERT_GT(both - 1, std::max({bytes[0], bytes[1], double(fs::file_size(meshes / "quads.obj"))}));
+  EXPECT_NO_THROW(parse_scene(text, "s.json", meshes, both));
+  try {
+    parse_scene(text, "s.json", meshes, both - 1);
+    ADD_FAILURE() << "loaded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location().line, 4) << e.what();
+    EXPECT_EQ(e.location().column, 28) << e.what();
+    EXPECT_EQ(e.message().rfind("objects[2].file: with this mesh the scene's 2 mesh files hold " +
+                                    std::to_string(scene.meshes[0].triangle_count() + scene.meshes[1].triangle_count()) +
+                                    " triangles: that needs ",
+                                0),
+              0u)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -6,7 +6,12 @@
 // - .ply, .gltf, .glb: assimp. Its PLY reader crashes, aborts or hangs on
 //   truncated or inconsistent files, so every PLY is checked first against its
 //   own header (counts against the file size, every record present, indices
-//   in range) by a structural walk that stores nothing.
+//   in range) by a structural walk that stores nothing. Its glTF reader trusts
+//   the JSON: glint's JSON reader checks it first (what it claims in memory,
+//   accessors within their views, sparse parts), and assimp gets it reduced
+//   to what glint uses (no skins, animations, morph targets or cameras).
+// - Every format: what the file claims or implies in memory is checked
+//   against a budget (memory_limit.h) before it is allocated.
 // Then, for every format: polygons triangulated (quads on the shorter
 // diagonal, larger polygons as fans), NaN/Inf vertices used by a triangle are
 // errors, zero-area triangles dropped with one counted warning, corner normals
@@ -15,9 +20,13 @@
 
 #include <tiny_obj_loader.h>
 
+#include <nlohmann/json.hpp>
+
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
+#include <assimp/MemoryIOWrapper.h>
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
@@ -26,6 +35,7 @@
 #include <charconv>
 #include <cmath>
 #include <cfloat>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <istream>
@@ -39,6 +49,7 @@
 
 #include "glint/error.h"
 #include "glint/io/file_io.h"
+#include "glint/io/json.h"
 
 namespace glint {
 namespace fs = std::filesystem;
@@ -73,6 +84,13 @@ std::string name_list(const std::vector<std::string>& names) {
   for (size_t i = 0; i < names.size() && i < 3; ++i) out += (i ? ", '" : "'") + names[i] + "'";
   if (names.size() > 3) out += " and " + std::to_string(names.size() - 3) + " more";
   return out;
+}
+
+// A count as a whole number, also beyond 64 bits ("4000000000", "1e+300").
+std::string format_count(double n) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, n < 1e15 ? "%.0f" : "%.3g", n);
+  return buf;
 }
 
 bool is_finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -717,7 +735,7 @@ std::string utf16_to_utf8(std::string_view bytes, bool big_endian) {
   return out;
 }
 
-MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes) {
+MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes, size_t budget) {
   std::string converted;
   std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (text.size() >= 2 && (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF")) {
@@ -786,6 +804,12 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
     size_t estimate = 0;
     for (const auto& s : shapes)
       for (unsigned char n : s.mesh.num_face_vertices) estimate += n >= 3 ? n - 2 : 0;
+    // OBJ states no counts, but text is dense: "f 1 2 3 4 ..." makes a
+    // triangle per 2 bytes, 50 times that in memory. Checked once the
+    // library's compact arrays are read, before the large ones are made.
+    const std::string excess = exceeds_budget(
+        kBytesPerTriangle * double(estimate) + kBytesPerVertex * double(attrib.vertices.size() / 3), budget);
+    if (!excess.empty()) fail(file, plural(estimate, "triangle", "triangles") + " (about): that " + excess);
     raw.indices.reserve(3 * estimate);
     raw.normals.reserve(3 * estimate);
     raw.triangle_material.reserve(estimate);
@@ -1021,6 +1045,12 @@ PlyHeader read_ply_header(std::string_view data, const std::string& file) {
       const auto count = parse_integer(tok[2].text);
       if (!count || *count < 0)
         fail(file, "bad PLY element count '" + std::string(tok[2].text) + "'", n, tok[2].column);
+      // assimp leaks on a repeated element (found by fuzz_mesh_ply), and
+      // which of two 'face' lists would be meant is anyone's guess.
+      for (const PlyElement& el : h.elements)
+        if (el.name == tok[1].text)
+          fail(file, "PLY element '" + el.name + "' declared twice (first on line " + std::to_string(el.line) + ")", n,
+               tok[1].column);
       h.elements.push_back({std::string(tok[1].text), static_cast<uint64_t>(*count), n, {}});
     } else if (key == "property") {
       if (h.elements.empty()) fail(file, "PLY property before any element", n);
@@ -1101,6 +1131,22 @@ void check_ply_counts(const PlyHeader& h, size_t data_bytes, const std::string& 
                "' elements but only " + plural(data_bytes, "byte", "bytes") + " of data follow",
            el.line);
   }
+}
+
+// What the header's counts would take in memory once read (at least one
+// triangle per face), refused before assimp allocates anything for them.
+void check_ply_memory(const PlyHeader& h, const PlyLayout& l, size_t budget, const std::string& file) {
+  const PlyElement& vertex = h.elements[l.vertex];
+  const uint64_t faces = l.face >= 0 ? h.elements[l.face].count : 0;
+  const double vertex_bytes = kBytesPerVertex * static_cast<double>(vertex.count);
+  const double face_bytes = kBytesPerTriangle * static_cast<double>(faces);
+  const std::string excess = exceeds_budget(vertex_bytes + face_bytes, budget);
+  if (excess.empty()) return;
+  const int line = face_bytes > vertex_bytes ? h.elements[l.face].line : vertex.line;
+  fail(file,
+       "the header claims " + plural(vertex.count, "vertex", "vertices") + " and " + plural(faces, "face", "faces") +
+           ": that " + excess,
+       line);
 }
 
 uint64_t read_binary_uint(const unsigned char* p, size_t size, bool big_endian) {
@@ -1238,6 +1284,12 @@ void walk_ascii_ply(const PlyHeader& h, const PlyLayout& l, std::string_view dat
                            plural(vertices, "vertex", "vertices") + ")", n, v.column);
         }
       }
+      // One record per line: assimp reads the values as one stream, so
+      // anything extra shifts every later value (and made it leak on the
+      // garbage it then met: fuzz_mesh_ply).
+      if (t < tok.size())
+        fail(file, el.name + " " + std::to_string(r) + ": more values on the line than the header declares", n,
+             tok[t].column);
     }
   }
 }
@@ -1260,7 +1312,7 @@ Material map_assimp_material(const aiMaterial& a) {
 // PLY faces with fewer than 3 vertices are skipped with a warning; glTF
 // point and line primitives are simply not surfaces.
 void from_assimp(const aiScene& scene, const std::string& file, const fs::path& folder, bool is_ply,
-                 RawMesh& raw) {
+                 size_t budget, RawMesh& raw) {
   const bool use_materials = !is_ply;
   // Mesh instances with their node transforms (glTF scenes place and reuse meshes).
   struct Instance {
@@ -1269,6 +1321,7 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
   };
   std::vector<Instance> instances;
   size_t triangles = 0;
+  double vertices = 0;
   if (scene.mRootNode) {
     std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{{scene.mRootNode, scene.mRootNode->mTransformation}};
     size_t visits = 0;
@@ -1280,6 +1333,7 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
         const unsigned mi = node->mMeshes[i];
         if (mi >= scene.mNumMeshes || !scene.mMeshes[mi]) continue;
         triangles += scene.mMeshes[mi]->mNumFaces;
+        vertices += scene.mMeshes[mi]->mNumVertices;
         if (triangles > kMaxTriangles) fail(file, "too many triangles after instancing");
         instances.push_back({mi, m});
       }
@@ -1292,7 +1346,14 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
       if (scene.mMeshes[i]) {
         instances.push_back({i, aiMatrix4x4()});
         triangles += scene.mMeshes[i]->mNumFaces;
+        vertices += scene.mMeshes[i]->mNumVertices;
       }
+  // Every instance gets its own copy of the mesh: a few nodes can multiply a
+  // small mesh beyond memory.
+  const std::string excess =
+      exceeds_budget(kBytesPerTriangle * static_cast<double>(triangles) + kBytesPerVertex * vertices, budget);
+  if (!excess.empty())
+    fail(file, plural(triangles, "triangle", "triangles") + " after instancing: that " + excess);
   raw.indices.reserve(3 * triangles);  // exact for triangle meshes
   raw.normals.reserve(3 * triangles);
   raw.triangle_material.reserve(triangles);
@@ -1457,10 +1518,11 @@ std::string assimp_error(const Assimp::Importer& importer) {
   return e.empty() ? "unknown error" : e;
 }
 
-MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes) {
+MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes, size_t budget) {
   const std::string_view data(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   const PlyHeader header = read_ply_header(data, file);
   const PlyLayout layout = ply_layout(header, file);
+  check_ply_memory(header, layout, budget, file);
   check_ply_counts(header, data.size() - header.body, file);
   RawMesh raw;
   if (header.unknown_lines > 0)
@@ -1475,7 +1537,7 @@ MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes) {
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, "ply");
   if (!scene) fail(file, "cannot read PLY: " + assimp_error(importer));
-  from_assimp(*scene, file, {}, /*is_ply=*/true, raw);
+  from_assimp(*scene, file, {}, /*is_ply=*/true, budget, raw);
   // assimp keeps the file's vertex order, so PLY vertex numbers are the file's.
   if (raw.positions.size() != header.elements[layout.vertex].count)
     raw.bad_vertex_text.clear();  // numbering differs: report by position instead
@@ -1487,29 +1549,381 @@ MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes) {
   return finish(std::move(raw), file);
 }
 
-MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes,
-                   bool binary) {
-  // Only glTF content goes to assimp: it would otherwise guess another format.
-  if (binary) {
-    if (bytes.size() < 12 || std::memcmp(bytes.data(), "glTF", 4) != 0)
-      fail(file, "not a binary glTF file (no 'glTF' magic)");
-    const uint64_t declared = read_binary_uint(bytes.data() + 8, 4, false);
-    if (declared > bytes.size())
-      fail(file, "truncated: the header declares " + std::to_string(declared) + " bytes, the file has " +
-                     std::to_string(bytes.size()));
-  } else {
+// The glTF's JSON: all of a .gltf, or a .glb's first chunk, which must be JSON.
+// Only glTF content goes to assimp: it would otherwise guess another format.
+std::string gltf_json_text(const std::vector<unsigned char>& bytes, bool binary, const std::string& file) {
+  if (!binary) {
     size_t i = 0;
     if (bytes.size() >= 3 && std::memcmp(bytes.data(), "\xEF\xBB\xBF", 3) == 0) i = 3;
     while (i < bytes.size() && std::isspace(bytes[i])) ++i;
     if (i >= bytes.size() || bytes[i] != '{') fail(file, "not a glTF file (no JSON object)");
+    return std::string(bytes.begin(), bytes.end());
+  }
+  if (bytes.size() < 12 || std::memcmp(bytes.data(), "glTF", 4) != 0)
+    fail(file, "not a binary glTF file (no 'glTF' magic)");
+  const uint64_t declared = read_binary_uint(bytes.data() + 8, 4, false);
+  if (declared > bytes.size())
+    fail(file, "truncated: the header declares " + std::to_string(declared) + " bytes, the file has " +
+                   std::to_string(bytes.size()));
+  if (bytes.size() < 20) fail(file, "truncated: no JSON chunk after the header");
+  const uint64_t length = read_binary_uint(bytes.data() + 12, 4, false);
+  if (std::memcmp(bytes.data() + 16, "JSON", 4) != 0) fail(file, "the first chunk is not the JSON chunk");
+  if (length > bytes.size() - 20)
+    fail(file, "truncated: the JSON chunk claims " + std::to_string(length) + " bytes, " +
+                   std::to_string(bytes.size() - 20) + " follow");
+  std::string text(bytes.begin() + 20, bytes.begin() + 20 + static_cast<ptrdiff_t>(length));
+  while (!text.empty() && text.back() == '\0') text.pop_back();  // padding some exporters write
+  return text;
+}
+
+// Bytes of one element of a glTF accessor (0 for types assimp will refuse).
+double gltf_element_bytes(const json::Value& accessor) {
+  const auto type = accessor.find("type");
+  const auto component = accessor.find("componentType");
+  if (!type || !type->is_string() || !component || !component->is_number()) return 0;
+  static const std::pair<std::string_view, int> kComponents[] = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3},
+                                                                  {"VEC4", 4},   {"MAT2", 4}, {"MAT3", 9},
+                                                                  {"MAT4", 16}};
+  int components = 0;
+  for (const auto& [name, n] : kComponents)
+    if (type->as_string() == name) components = n;
+  const double c = component->as_number();
+  const int size = c == 5120 || c == 5121 ? 1 : c == 5122 || c == 5123 ? 2 : c == 5125 || c == 5126 ? 4 : 0;
+  return double(components) * size;
+}
+
+// An accessor's count as the file claims it (0 when it is no count at all,
+// which assimp reports itself).
+double gltf_count(const json::Value& accessor) {
+  const auto count = accessor.find("count");
+  return count && count->is_number() && count->as_number() > 0 ? count->as_number() : 0;
+}
+
+// A non-negative integer member, or nullopt.
+std::optional<double> gltf_index(const json::Value& object, std::string_view key) {
+  const auto v = object.find(key);
+  if (!v || !v->is_integer() || v->as_number() < 0) return std::nullopt;
+  return v->as_number();
+}
+
+// False for a "data:...;base64,..." URI whose payload is not base64 (the
+// alphabet, a length of whole 4-character groups, '=' only as padding);
+// true for anything else (other URIs are assimp's to judge).
+bool is_valid_data_uri(std::string_view uri) {
+  if (uri.substr(0, 5) != "data:") return true;
+  const size_t comma = uri.find(',');
+  if (comma == std::string_view::npos) return true;
+  const std::string_view header = uri.substr(0, comma);
+  if (header.size() < 7 || header.substr(header.size() - 7) != ";base64") return true;
+  std::string_view payload = uri.substr(comma + 1);
+  if (payload.size() % 4 != 0) return false;
+  for (int pad = 0; pad < 2 && !payload.empty() && payload.back() == '='; ++pad) payload.remove_suffix(1);
+  for (char c : payload)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '+' && c != '/') return false;
+  return true;
+}
+
+// One primitive's indices: unsigned integer scalars (assimp leaked on a VEC3
+// index accessor), and at least as many corners (indices, or positions
+// without them) as its mode needs for one point, line or triangle: with fewer,
+// assimp leaked (lines, fans) or wrapped a count to 2^64 (strips, fans).
+template <class Where>
+void check_gltf_primitive(const json::Value& primitive, const std::optional<json::Value>& accessors, Where where,
+                          const std::string& name) {
+  auto accessor = [&](const std::optional<double>& index) -> std::optional<json::Value> {
+    if (!index || !accessors || !accessors->is_array() || *index >= double(accessors->size())) return std::nullopt;
+    return (*accessors)[static_cast<size_t>(*index)];  // else assimp reports it
+  };
+  const auto indices = accessor(gltf_index(primitive, "indices"));
+  if (indices) {
+    const auto type = indices->find("type");
+    const auto component = indices->find("componentType");
+    const double c = component && component->is_number() ? component->as_number() : 0;
+    if (!type || !type->is_string() || type->as_string() != "SCALAR" || (c != 5121 && c != 5123 && c != 5125))
+      throw Error(where(*primitive.find("indices")),
+                  name + ".indices: must be a SCALAR accessor of 5121, 5123 or 5125 (unsigned integers)");
+  }
+  const auto attributes = primitive.find("attributes");
+  const auto positions = attributes ? accessor(gltf_index(*attributes, "POSITION")) : std::nullopt;
+  // No positions at all count as none (a strip of none wrapped too).
+  const double corners = indices ? gltf_count(*indices) : positions ? gltf_count(*positions) : 0;
+  const double mode = gltf_index(primitive, "mode").value_or(4);
+  const double needed = mode == 0 ? 1 : mode <= 3 ? 2 : 3;
+  if (corners < needed)
+    throw Error(where(primitive), name + ": " + format_count(corners) + (indices ? " indices" : " vertices") +
+                                      " are too few for mode " + format_count(mode) + " (at least " +
+                                      format_count(needed) + ")");
+}
+
+// What the glTF specification requires and assimp 5.2 relies on without
+// checking, for what reaches it (see reduce_gltf_json): it leaks on an
+// accessor without a valid componentType or type (fuzz_mesh_glb) and on
+// indices that are not scalar integers; for sparse accessors it dereferences
+// null for a missing part and reads past the buffer for a count the buffer
+// views cannot hold (fuzz_mesh_gltf).
+void check_gltf_structure(const json::Document& doc, bool binary, const std::string& file) {
+  const json::Value root = doc.root();
+  auto where = [&](const json::Value& v) { return binary ? SourceLocation{file, 0, 0} : v.location(); };
+  // glTF 1.0 (objects where 2.0 has arrays) would go to assimp's glTF 1
+  // reader, unchecked by anything here.
+  const auto asset = root.find("asset");
+  const auto version = asset ? asset->find("version") : std::nullopt;
+  if (!version || !version->is_string()) throw Error(where(root), "no asset.version: not a glTF 2.0 file");
+  if (version->as_string().substr(0, 2) != "2.")
+    throw Error(where(*version), "asset.version: glTF " + std::string(version->as_string()) +
+                                     " is not supported (only glTF 2.0)");
+  const auto accessors = root.find("accessors");
+  const auto views = root.find("bufferViews");
+  const size_t view_count = views && views->is_array() ? views->size() : 0;
+  // byteLength of a buffer view by index; nullopt when there is no such view.
+  auto view_length = [&](const std::optional<double>& index) -> std::optional<double> {
+    if (!index || *index >= double(view_count)) return std::nullopt;
+    const auto length = gltf_index((*views)[static_cast<size_t>(*index)], "byteLength");
+    return length ? length : std::optional<double>(0.0);
+  };
+  for (size_t i = 0; accessors && accessors->is_array() && i < accessors->size(); ++i) {
+    const json::Value a = (*accessors)[i];
+    const std::string name = "accessors[" + std::to_string(i) + "]";
+    if (!a.is_object()) continue;  // assimp reports that one
+    const double element = gltf_element_bytes(a);
+    if (element == 0)
+      throw Error(where(a), name + ": needs a componentType of 5120, 5121, 5122, 5123, 5125 or 5126 and a type of "
+                                   "SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
+    // The specification's bound on an accessor within its view, stride
+    // included: assimp checks count x element size only, then reads strided
+    // elements past the view, throws half-way and leaks (fuzz_mesh_glb).
+    const auto view_index = gltf_index(a, "bufferView");
+    if (const auto length = view_length(view_index); length && gltf_count(a) > 0) {
+      const json::Value view = (*views)[static_cast<size_t>(*view_index)];
+      const double stride = gltf_index(view, "byteStride").value_or(0) > 0 ? *gltf_index(view, "byteStride") : element;
+      const double end = gltf_index(a, "byteOffset").value_or(0) + stride * (gltf_count(a) - 1) + element;
+      if (end > *length)
+        throw Error(where(a), name + ": " + format_count(gltf_count(a)) + " elements need " + format_count(end) +
+                                  " bytes of buffer view " + format_count(*view_index) + ", which has " +
+                                  format_count(*length));
+    }
+    const auto sparse = a.find("sparse");
+    if (!sparse) continue;
+    auto bad_sparse = [&](const std::string& what) { throw Error(where(*sparse), name + ".sparse: " + what); };
+    const auto count = sparse->is_object() ? gltf_index(*sparse, "count") : std::nullopt;
+    if (!count || *count < 1 || *count > gltf_count(a))
+      bad_sparse("needs a count from 1 to the accessor's count");
+    const auto indices = sparse->find("indices"), values = sparse->find("values");
+    if (!indices || !indices->is_object() || !values || !values->is_object())
+      bad_sparse("needs 'indices' and 'values' objects");
+    const auto index_type = indices->find("componentType");
+    const double t = index_type && index_type->is_number() ? index_type->as_number() : 0;
+    const double index_bytes = t == 5121 ? 1 : t == 5123 ? 2 : t == 5125 ? 4 : 0;
+    if (index_bytes == 0) bad_sparse("indices need a componentType of 5121, 5123 or 5125");
+    const auto index_view = view_length(gltf_index(*indices, "bufferView"));
+    const auto value_view = view_length(gltf_index(*values, "bufferView"));
+    if (!index_view || !value_view) bad_sparse("indices and values each need a bufferView that exists");
+    if (gltf_index(*indices, "byteOffset").value_or(0) + *count * index_bytes > *index_view ||
+        gltf_index(*values, "byteOffset").value_or(0) + *count * element > *value_view)
+      bad_sparse(format_count(*count) + " entries do not fit in their buffer views");
+  }
+  // assimp 5.2's base64 decoder leaks its buffer when it throws on a bad
+  // character (fuzz_mesh_gltf). Images are not read at all (see
+  // reduce_gltf_json); buffers must decode.
+  const auto buffers = root.find("buffers");
+  for (size_t i = 0; buffers && buffers->is_array() && i < buffers->size(); ++i) {
+    const auto uri = (*buffers)[i].find("uri");
+    if (uri && uri->is_string() && !is_valid_data_uri(uri->as_string()))
+      throw Error(where(*uri), "buffers[" + std::to_string(i) + "].uri: a data URI whose base64 does not decode");
+  }
+  const auto meshes = root.find("meshes");
+  for (size_t m = 0; meshes && meshes->is_array() && m < meshes->size(); ++m) {
+    const auto primitives = (*meshes)[m].find("primitives");
+    for (size_t p = 0; primitives && primitives->is_array() && p < primitives->size(); ++p)
+      check_gltf_primitive((*primitives)[p], accessors, where,
+                           "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) + "]");
+  }
+}
+
+// What glint reads from a glTF is the node tree, the meshes' positions,
+// normals, first UV set and indices, and the materials (with their base color
+// textures). Skins, animations, morph targets, cameras and other vertex
+// attributes are dropped before assimp sees the file: glint would ignore
+// them, and assimp 5.2 crashes or leaks on many
+// malformed ones (a skin without inverseBindMatrices, an animation channel
+// without a target, float joints: fuzz_mesh_gltf). LINE_LOOPs become
+// LINE_STRIPs (see below). `text` is valid JSON.
+std::string reduce_gltf_json(const std::string& text) {
+  using NJson = nlohmann::json;
+  NJson j = NJson::parse(text);
+  if (!j.is_object()) return text;
+  for (const char* key : {"animations", "skins", "cameras"}) j.erase(key);
+  // Embedded images are never decoded by glint, but assimp decodes their
+  // base64 and leaks on a bad one: those become 3 zero bytes.
+  if (auto images = j.find("images"); images != j.end() && images->is_array())
+    for (NJson& image : *images) {
+      if (!image.is_object() || !image.contains("uri") || !image["uri"].is_string()) continue;
+      const std::string uri = image["uri"].get<std::string>();
+      if (!is_valid_data_uri(uri)) image["uri"] = uri.substr(0, uri.find(',')) + ",AAAA";
+    }
+  if (auto nodes = j.find("nodes"); nodes != j.end() && nodes->is_array())
+    for (NJson& node : *nodes)
+      if (node.is_object())
+        for (const char* key : {"skin", "camera", "weights"}) node.erase(key);
+  if (auto meshes = j.find("meshes"); meshes != j.end() && meshes->is_array())
+    for (NJson& mesh : *meshes) {
+      if (!mesh.is_object()) continue;
+      mesh.erase("weights");
+      auto primitives = mesh.find("primitives");
+      if (primitives == mesh.end() || !primitives->is_array()) continue;
+      for (NJson& primitive : *primitives) {
+        if (!primitive.is_object()) continue;
+        primitive.erase("targets");
+        // Lines are no surfaces to glint, but assimp 5.2 dereferences null
+        // closing a LINE_LOOP whose indices are out of range (fuzz_mesh_glb):
+        // a LINE_STRIP is read the same way, without the closing segment.
+        if (auto mode = primitive.find("mode"); mode != primitive.end() && *mode == 2) *mode = 3;
+        auto attributes = primitive.find("attributes");
+        if (attributes == primitive.end() || !attributes->is_object()) continue;
+        for (auto it = attributes->begin(); it != attributes->end();)
+          it = it.key() == "POSITION" || it.key() == "NORMAL" || it.key() == "TEXCOORD_0" ? std::next(it)
+                                                                                         : attributes->erase(it);
+      }
+    }
+  return j.dump(-1, ' ', false, NJson::error_handler_t::replace);
+}
+
+// The file as assimp gets it: the reduced JSON, in a GLB with the file's
+// other chunks (its binary buffer) when the file is one.
+std::string reduced_gltf_file(const std::vector<unsigned char>& bytes, bool binary, const std::string& json_text) {
+  std::string json = reduce_gltf_json(json_text);
+  if (!binary) return json;
+  while (json.size() % 4) json += ' ';  // chunks stay 4-byte aligned
+  const uint64_t declared = read_binary_uint(bytes.data() + 8, 4, false);
+  const uint64_t rest = 20 + read_binary_uint(bytes.data() + 12, 4, false);
+  const std::string tail = rest < declared ? std::string(bytes.begin() + static_cast<ptrdiff_t>(rest),
+                                                         bytes.begin() + static_cast<ptrdiff_t>(declared))
+                                           : std::string();
+  auto u32 = [](uint64_t v) {
+    const char b[4] = {char(v & 0xff), char((v >> 8) & 0xff), char((v >> 16) & 0xff), char((v >> 24) & 0xff)};
+    return std::string(b, 4);
+  };
+  return std::string(reinterpret_cast<const char*>(bytes.data()), 8) + u32(20 + json.size() + tail.size()) +
+         u32(json.size()) + "JSON" + json + tail;
+}
+
+// Serves the glTF file itself from memory (reduced) and every file it names
+// (external buffers, images) from disk, relative to it as assimp resolves
+// them; only regular files, since opening a FIFO a buffer names would block.
+class ReducedGltfIO final : public Assimp::DefaultIOSystem {
+ public:
+  ReducedGltfIO(std::string path, std::string bytes) : path_(std::move(path)), bytes_(std::move(bytes)) {}
+  bool Exists(const char* file) const override { return path_ == file || is_regular(file); }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (path_ == file)
+      return new Assimp::MemoryIOStream(reinterpret_cast<const uint8_t*>(bytes_.data()), bytes_.size());
+    return is_regular(file) ? DefaultIOSystem::Open(file, mode) : nullptr;
+  }
+
+ private:
+  static bool is_regular(const char* file) {
+    std::error_code ec;
+    return fs::is_regular_file(file, ec);
+  }
+  std::string path_, bytes_;
+};
+
+// What the glTF claims before assimp allocates for it: every accessor's data
+// (assimp allocates count x element size even for an accessor without a
+// buffer, e.g. a sparse one, so a 300-byte file can claim gigabytes), and the
+// meshes' vertices and triangles times the nodes that instance each mesh.
+void check_gltf_memory(const json::Document& doc, bool binary, size_t budget, const std::string& file) {
+  const json::Value root = doc.root();
+  // A .glb's JSON positions mean little to people: name the file only.
+  auto where = [&](const json::Value& v) { return binary ? SourceLocation{file, 0, 0} : v.location(); };
+  const auto accessors = root.find("accessors");
+  std::vector<double> counts;
+  double accessor_bytes = 0;
+  if (accessors && accessors->is_array()) {
+    for (size_t i = 0; i < accessors->size(); ++i) {
+      const json::Value a = (*accessors)[i];
+      counts.push_back(gltf_count(a));
+      const double bytes = counts.back() * gltf_element_bytes(a);
+      const std::string excess = exceeds_budget(bytes, budget);
+      if (!excess.empty())
+        throw Error(where(*a.find("count")), "accessors[" + std::to_string(i) + "].count: " +
+                                                 format_count(counts.back()) + " elements: that " + excess);
+      accessor_bytes += bytes;
+    }
+  }
+  // assimp holds every buffer whole (an external .bin may be any size).
+  const auto buffers = root.find("buffers");
+  for (size_t i = 0; buffers && buffers->is_array() && i < buffers->size(); ++i) {
+    const auto length = (*buffers)[i].find("byteLength");
+    if (!length || !length->is_number() || length->as_number() <= 0) continue;
+    const std::string excess = exceeds_budget(length->as_number(), budget);
+    if (!excess.empty())
+      throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " + format_count(length->as_number()) +
+                                      " bytes: that " + excess);
+    accessor_bytes += length->as_number();
+  }
+  auto count_of = [&](const std::optional<json::Value>& index) {
+    if (!index || !index->is_integer() || index->as_number() < 0 || index->as_number() >= double(counts.size()))
+      return 0.0;
+    return counts[static_cast<size_t>(index->as_number())];
+  };
+  const auto meshes = root.find("meshes");
+  const auto nodes = root.find("nodes");
+  double vertices = 0, triangles = 0;
+  for (size_t m = 0; meshes && meshes->is_array() && m < meshes->size(); ++m) {
+    double instances = 0;
+    for (size_t n = 0; nodes && nodes->is_array() && n < nodes->size(); ++n) {
+      const auto mesh = (*nodes)[n].find("mesh");
+      instances += mesh && mesh->is_number() && mesh->as_number() == double(m);
+    }
+    const auto primitives = (*meshes)[m].find("primitives");
+    for (size_t p = 0; primitives && primitives->is_array() && p < primitives->size(); ++p) {
+      const json::Value primitive = (*primitives)[p];
+      const auto attributes = primitive.find("attributes");
+      const double positions = attributes ? count_of(attributes->find("POSITION")) : 0;
+      const auto indices = primitive.find("indices");
+      const double corners = indices ? count_of(indices) : positions;
+      const auto mode = primitive.find("mode");
+      const bool strip_or_fan = mode && mode->is_number() && (mode->as_number() == 5 || mode->as_number() == 6);
+      vertices += std::max(instances, 1.0) * positions;
+      triangles += std::max(instances, 1.0) * (strip_or_fan ? corners : corners / 3);
+    }
+  }
+  const std::string excess =
+      exceeds_budget(accessor_bytes + kBytesPerVertex * vertices + kBytesPerTriangle * triangles, budget);
+  if (!excess.empty())
+    fail(file, "the accessors claim " + format_count(vertices) + " vertices and " + format_count(triangles) +
+                   " triangles (instances counted): that " + excess);
+}
+
+json::Document parse_gltf_json(std::string text, bool binary, const std::string& file) {
+  try {
+    return json::parse(std::move(text), file);
+  } catch (const Error& e) {
+    if (!binary) throw;
+    fail(file, "JSON chunk: " + e.message());
+  }
+}
+
+MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes,
+                   bool binary, size_t budget) {
+  const std::string json_text = gltf_json_text(bytes, binary, file);
+  {
+    const json::Document doc = parse_gltf_json(json_text, binary, file);
+    // Memory first: a claim of billions is the news, not the buffer it overruns.
+    check_gltf_memory(doc, binary, budget, file);
+    check_gltf_structure(doc, binary, file);
   }
   AssimpLogCapture log;
   Assimp::Importer importer;
+  importer.SetIOHandler(new ReducedGltfIO(path.string(), reduced_gltf_file(bytes, binary, json_text)));
   const aiScene* scene = importer.ReadFile(path.string(), 0);
-  if (!scene) fail(file, "cannot read glTF: " + assimp_error(importer));
+  // assimp drops faces with out-of-range indices (with a log line), and then
+  // may fail for a mesh left without faces: the cause is the better message.
   if (log.contains("out-of-range indices")) fail(file, "face with a vertex index out of range");
+  if (!scene) fail(file, "cannot read glTF: " + assimp_error(importer));
   RawMesh raw;
-  from_assimp(*scene, file, path.parent_path(), /*is_ply=*/false, raw);
+  from_assimp(*scene, file, path.parent_path(), /*is_ply=*/false, budget, raw);
   // assimp adds a default material for primitives without one: not the file's.
   for (int32_t& m : raw.triangle_material)
     if (m >= 0 && raw.materials[m].name == AI_DEFAULT_MATERIAL_NAME) m = -1;
@@ -1520,7 +1934,7 @@ MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vec
 
 }  // namespace
 
-MeshFile load_mesh_file(const fs::path& path) {
+MeshFile load_mesh_file(const fs::path& path, size_t memory_budget) {
   const std::string file = path.string();
   try {
     std::error_code ec;
@@ -1530,11 +1944,19 @@ MeshFile load_mesh_file(const fs::path& path) {
     const std::string ext = lower(path.extension().string());
     if (ext != ".obj" && ext != ".ply" && ext != ".gltf" && ext != ".glb")
       fail(file, "unsupported mesh format '" + path.extension().string() + "' (supported: .obj, .ply, .gltf, .glb)");
+    // Not a device or a pipe: /dev/zero would be read until memory runs out.
+    if (!fs::is_regular_file(status)) fail(file, "not a regular file");
+    // The readers hold the whole file and more, so a file beyond the budget is refused unread.
+    const uintmax_t size = fs::file_size(path, ec);
+    if (!ec) {
+      const std::string excess = exceeds_budget(static_cast<double>(size), memory_budget);
+      if (!excess.empty()) fail(file, "file of " + format_bytes(static_cast<double>(size)) + ": reading it " + excess);
+    }
     std::vector<unsigned char> bytes = read_file(path);
     if (bytes.empty()) fail(file, "empty file");
-    if (ext == ".obj") return load_obj(path, file, std::move(bytes));
-    if (ext == ".ply") return load_ply(file, std::move(bytes));
-    return load_gltf(path, file, bytes, ext == ".glb");
+    if (ext == ".obj") return load_obj(path, file, std::move(bytes), memory_budget);
+    if (ext == ".ply") return load_ply(file, std::move(bytes), memory_budget);
+    return load_gltf(path, file, bytes, ext == ".glb", memory_budget);
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {

@@ -6,11 +6,13 @@
 // MeshFile into a Scene mesh.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "glint/io/memory_limit.h"
 #include "glint/scene/scene.h"
 
 namespace glint {
@@ -40,7 +42,10 @@ struct MeshFile {
 };
 
 // Throws glint::Error naming the mesh file (and line:col where it has one)
-// for a missing, unreadable or broken file, or one with no triangles.
-MeshFile load_mesh_file(const std::filesystem::path& path);
+// for a missing, unreadable or broken file, or one with no triangles. A file
+// larger than `memory_budget`, or whose header claims more vertices,
+// triangles or data than it allows (PLY element counts, glTF accessor counts,
+// with instancing), is refused before anything is allocated for it.
+MeshFile load_mesh_file(const std::filesystem::path& path, size_t memory_budget = default_memory_budget());
 
 }  // namespace glint

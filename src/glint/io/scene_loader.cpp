@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "glint/io/json.h"
+#include "glint/io/memory_limit.h"
 #include "glint/io/mesh_file.h"
 #include "glint/io/texture_file.h"
 
@@ -117,8 +118,9 @@ class Path {
 // path in the document (for messages) and returns checked data.
 class SceneReader {
  public:
-  SceneReader(const json::Document& doc, std::filesystem::path base_dir)
-      : doc_(doc), base_dir_(std::move(base_dir)) {}
+  SceneReader(const json::Document& doc, std::filesystem::path base_dir,
+              size_t memory_budget = default_memory_budget())
+      : doc_(doc), base_dir_(std::move(base_dir)), memory_budget_(memory_budget) {}
 
   // With `errors`, problems are collected (one per material, light, object
   // or section) and reading goes on; without, the first one is thrown.
@@ -644,7 +646,7 @@ class SceneReader {
     const std::string cache_key = file_key(file);
     if (auto it = mesh_index_.find(cache_key); it != mesh_index_.end()) return it->second;
     if (!std::filesystem::exists(file, ec)) fail(v, path, "mesh file " + quote_text(file.string()) + " not found");
-    MeshFile loaded = load_mesh_file(file);
+    MeshFile loaded = load_mesh_file(file, memory_budget_);
     for (std::string& w : loaded.warnings) scene_.warnings.push_back(std::move(w));
     // The file's textures join the scene's; one that cannot be read is a
     // warning and its material keeps its color (the contract: defaults used).
@@ -686,6 +688,15 @@ class SceneReader {
       const int32_t m = loaded.triangle_material[t];
       if (m >= 0 && static_cast<size_t>(m) < material_of.size()) mesh.triangle_material[t] = material_of[m];
     }
+    // Each file fits on its own (load_mesh_file checks); all of them, with
+    // their BVHs, must fit too. Instances share their mesh and cost little.
+    mesh_vertices_ += mesh.positions.size();
+    mesh_triangles_ += mesh.triangle_count();
+    const std::string excess = exceeds_budget(
+        kBytesPerVertex * double(mesh_vertices_) + kBytesPerTriangle * double(mesh_triangles_), memory_budget_);
+    if (!excess.empty())
+      fail(v, path, "with this mesh the scene's " + std::to_string(mesh_index_.size() + 1) + " mesh files hold " +
+                        std::to_string(mesh_triangles_) + " triangles: that " + excess);
     const uint32_t index = add_mesh(scene_, std::move(mesh));
     mesh_index_[cache_key] = index;
     return index;
@@ -787,6 +798,8 @@ class SceneReader {
   std::vector<Error>* errors_ = nullptr;
   std::map<std::string, uint32_t> mesh_index_;  // canonical path -> Scene::meshes
   std::map<std::string, uint32_t> texture_image_index_;  // canonical path -> Scene::texture_images
+  size_t memory_budget_;
+  size_t mesh_vertices_ = 0, mesh_triangles_ = 0;  // of every mesh file loaded
   Scene scene_;
   std::map<std::string, uint32_t, std::less<>> material_index_;
 };
@@ -811,22 +824,16 @@ std::string closest_match(std::string_view word, const std::vector<std::string_v
 void check_image_size(int width, int height, const SourceLocation& where) {
   // The film holds 3 floats per pixel; refuse what this machine cannot hold
   // rather than let the allocation fail (or the OOM killer strike) mid-render.
-  const double bytes = 12.0 * width * height;
-  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
-  const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : 8e9;
-  if (bytes > 0.5 * memory) {
-    std::ostringstream msg;
-    msg.precision(3);
-    msg << "image of " << width << "x" << height << " pixels needs " << bytes / (1 << 30)
-        << " GiB, more than half of this machine's " << memory / (1 << 30) << " GiB of memory";
-    throw Error(where, msg.str());
-  }
+  const std::string excess = exceeds_budget(12.0 * width * height, default_memory_budget());
+  if (!excess.empty())
+    throw Error(where, "image of " + std::to_string(width) + "x" + std::to_string(height) + " pixels " + excess);
 }
 
-Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir) {
+Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir,
+                  size_t memory_budget) {
   const json::Document doc = json::parse(std::move(text), filename);
   try {
-    return SceneReader(doc, base_dir).read();
+    return SceneReader(doc, base_dir, memory_budget).read();
   } catch (const std::bad_alloc&) {
     throw Error(SourceLocation{filename, 0, 0}, "out of memory while loading the scene");
   }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "glint/error.h"
+#include "glint/io/memory_limit.h"
 #include "glint/scene/scene.h"
 
 namespace glint {
@@ -21,9 +22,10 @@ Scene load_scene(const std::filesystem::path& path);
 // first (one per material, light, object or section; a JSON syntax error ends
 // the list). Empty when the scene is valid.
 std::vector<Error> validate_scene(const std::filesystem::path& path);
-// `filename` is what messages name; relative paths inside resolve against base_dir.
-Scene parse_scene(std::string text, const std::string& filename,
-                  const std::filesystem::path& base_dir = {});
+// `filename` is what messages name; relative paths inside resolve against
+// base_dir. Mesh files, each alone and all together, must fit memory_budget.
+Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir = {},
+                  size_t memory_budget = default_memory_budget());
 
 // Limits the loader enforces beyond the contract, so no input can exhaust
 // memory or the stack; documented in docs/scene-format.md.
