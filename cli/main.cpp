@@ -24,6 +24,7 @@
 #include "glint/image/image.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
+#include "glint/render/frames.h"
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
 #include "glint/io/file_io.h"
@@ -42,6 +43,8 @@ struct RenderArgs {
   std::string accel = "bvh";
   bool quiet = false;
   bool resume = false;
+  std::optional<std::string> frames;  // "N" or "A-B"
+  bool skip_existing = false;
 };
 
 glint::AccelBackend backend_named(const std::string& name) {
@@ -218,7 +221,8 @@ int run_info(const std::string& scene_path) {
   return 0;
 }
 
-int run_render(const RenderArgs& args) {
+// Renders one image: `scene` is the frame's scene, args.output_path its file.
+int render_frame(const RenderArgs& args, glint::Scene scene, int frame) {
   using namespace glint;
   const auto start = std::chrono::steady_clock::now();
   const std::filesystem::path output(args.output_path);
@@ -229,9 +233,6 @@ int run_render(const RenderArgs& args) {
   if (!std::filesystem::is_directory(out_dir))
     throw Error(args.output_path + ": output folder " + out_dir.string() + " does not exist");
 
-  Scene scene = load_scene(args.scene_path);
-  if (!args.quiet)
-    for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   RenderSettings& r = scene.render;
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
@@ -242,7 +243,8 @@ int run_render(const RenderArgs& args) {
 
   // The resume key covers the scene file and the settings that shape pixels.
   const std::filesystem::path resume_path = resume_path_for(output);
-  const uint64_t key = resume_key(read_file(args.scene_path), r);
+  uint64_t key = resume_key(read_file(args.scene_path), r);
+  if (scene.animation.frames > 0) key ^= 0x9e3779b97f4a7c15ULL * static_cast<uint64_t>(frame + 1);  // one per frame
   Image image;
   TileProgress tiles;
   if (args.resume) {
@@ -301,6 +303,46 @@ int run_render(const RenderArgs& args) {
   return 0;
 }
 
+// --- frames: animations, --frames, --skip-existing ------------------------
+// The frames to render and each one's output name; errors before any render.
+std::vector<std::pair<int, std::string>> plan_frames(const RenderArgs& args, const glint::Scene& scene) {
+  using namespace glint;
+  std::vector<int> frames;
+  if (args.frames) frames = parse_frame_range(*args.frames, frame_count(scene));
+  else
+    for (int f = 0; f < frame_count(scene); ++f) frames.push_back(f);
+  std::vector<std::pair<int, std::string>> plan;
+  for (int f : frames) plan.emplace_back(f, frame_output_path(args.output_path, f).value_or(args.output_path));
+  if (plan.size() > 1 && plan[0].second == args.output_path)
+    throw Error(args.output_path + ": " + std::to_string(plan.size()) +
+                " frames need a frame number in the output name, exactly one %d or %0Nd (e.g. out_%04d.png)");
+  return plan;
+}
+
+// A frame is done when its image exists and no interrupted render left a
+// resume file beside it (that image would be partial).
+bool frame_done(const std::string& output) {
+  std::error_code ec;
+  return std::filesystem::exists(output, ec) && !std::filesystem::exists(glint::resume_path_for(output), ec);
+}
+
+int run_render(const RenderArgs& args) {
+  using namespace glint;
+  const Scene scene = load_scene(args.scene_path);
+  if (!args.quiet)
+    for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const auto& [frame, output] : plan_frames(args, scene)) {
+    if (args.skip_existing && frame_done(output)) {
+      if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", output.c_str());
+      continue;
+    }
+    RenderArgs frame_args = args;
+    frame_args.output_path = output;
+    render_frame(frame_args, scene_at_frame(scene, frame), frame);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -323,6 +365,8 @@ int main(int argc, char** argv) {
       ->check(one_of({"bvh", "embree"}, "accelerator"));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
+  render->add_option("--frames", args.frames, "animation frames to render: N or A-B (default: all)");
+  render->add_flag("--skip-existing", args.skip_existing, "do not render frames whose output exists (and is complete)");
 
   std::string validate_path, info_path;
   bool validate_quiet = false;
