@@ -25,6 +25,9 @@
 #include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
 #include "glint/render/frames.h"
+#ifdef GLINT_HAVE_MPI
+#include "glint/render/distributed.h"
+#endif
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
 #include "glint/io/file_io.h"
@@ -221,25 +224,34 @@ int run_info(const std::string& scene_path) {
   return 0;
 }
 
-// Renders one image: `scene` is the frame's scene, args.output_path its file.
-int render_frame(const RenderArgs& args, glint::Scene scene, int frame) {
+void check_output_path(const std::string& path) {
   using namespace glint;
-  const auto start = std::chrono::steady_clock::now();
-  const std::filesystem::path output(args.output_path);
+  const std::filesystem::path output(path);
   if (!image_format_for_path(output))
-    throw Error(args.output_path + ": unsupported output format (supported: " +
-                std::string(supported_image_extensions()) + ")");
+    throw Error(path + ": unsupported output format (supported: " + std::string(supported_image_extensions()) + ")");
   const std::filesystem::path out_dir = output.has_parent_path() ? output.parent_path() : ".";
   if (!std::filesystem::is_directory(out_dir))
-    throw Error(args.output_path + ": output folder " + out_dir.string() + " does not exist");
+    throw Error(path + ": output folder " + out_dir.string() + " does not exist");
+}
 
-  RenderSettings& r = scene.render;
+void apply_overrides(const RenderArgs& args, glint::RenderSettings& r) {
+  using namespace glint;
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
   if (args.spp) r.samples_per_pixel = *args.spp;
   if (args.max_depth) r.max_depth = *args.max_depth;
   if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
   if (args.width || args.height) check_image_size(r.width, r.height, SourceLocation{});
+}
+
+// Renders one image: `scene` is the frame's scene, args.output_path its file.
+int render_frame(const RenderArgs& args, glint::Scene scene, int frame) {
+  using namespace glint;
+  const auto start = std::chrono::steady_clock::now();
+  const std::filesystem::path output(args.output_path);
+  check_output_path(args.output_path);
+  RenderSettings& r = scene.render;
+  apply_overrides(args, r);
 
   // The resume key covers the scene file and the settings that shape pixels.
   const std::filesystem::path resume_path = resume_path_for(output);
@@ -326,7 +338,20 @@ bool frame_done(const std::string& output) {
   return std::filesystem::exists(output, ec) && !std::filesystem::exists(glint::resume_path_for(output), ec);
 }
 
+int run_render_local(const RenderArgs& args);
+#ifdef GLINT_HAVE_MPI
+int run_render_mpi(const RenderArgs& args);
+#endif
+
 int run_render(const RenderArgs& args) {
+  using namespace glint;
+#ifdef GLINT_HAVE_MPI
+  if (glint::mpi::launched()) return run_render_mpi(args);
+#endif
+  return run_render_local(args);
+}
+
+int run_render_local(const RenderArgs& args) {
   using namespace glint;
   const Scene scene = load_scene(args.scene_path);
   if (!args.quiet)
@@ -342,6 +367,96 @@ int run_render(const RenderArgs& args) {
   }
   return 0;
 }
+
+#ifdef GLINT_HAVE_MPI
+// --- distributed: under mpirun / srun (GLINT_MPI) --------------------------
+// Every rank loads the scene itself; they agree it loaded everywhere before
+// any work is handed out, so a bad scene ends every rank with no hang.
+// More frames than ranks: whole frames go to ranks (each writes its own);
+// otherwise each frame's tiles are spread over all ranks and rank 0 writes it.
+int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& session);
+
+int run_render_mpi(const RenderArgs& args) {
+  const glint::mpi::Session session;
+  if (session.size == 1) {
+    // One rank: exactly the single-process render (interrupt, resume and all).
+    RenderArgs local = args;
+    return run_render_local(local);
+  }
+  return run_render_distributed(args, session);
+}
+
+int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& session) {
+  using namespace glint;
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<Scene> scene;
+  std::vector<std::pair<int, std::string>> plan;
+  std::string error;
+  try {
+    if (args.resume) throw Error("--resume is for single-process renders; under mpirun use --skip-existing");
+    scene = load_scene(args.scene_path);
+    apply_overrides(args, scene->render);
+    plan = plan_frames(args, *scene);
+    for (const auto& [frame, output] : plan) check_output_path(output);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  const std::vector<int> failed = mpi::failed_ranks(error.empty());
+  if (!failed.empty()) {
+    // Rank 0 speaks for all when it failed too (the same file, the same error).
+    if (!error.empty() && (session.rank == 0 || failed.front() != 0))
+      print_error(session.rank == 0 ? error : "rank " + std::to_string(session.rank) + ": " + error);
+    return 1;
+  }
+  if (session.rank == 0 && !args.quiet)
+    for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+
+  // Rank 0 alone decides which frames are missing, so ranks on file systems
+  // that disagree cannot deadlock over different lists.
+  std::vector<int> todo;
+  if (session.rank == 0)
+    for (size_t i = 0; i < plan.size(); ++i) {
+      if (args.skip_existing && frame_done(plan[i].second)) {
+        if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", plan[i].second.c_str());
+        continue;
+      }
+      todo.push_back(static_cast<int>(i));
+    }
+  mpi::broadcast(todo);
+
+  if (static_cast<int>(todo.size()) > session.size) {
+    mpi::run_items(static_cast<int>(todo.size()), [&](int item) {
+      const auto& [frame, output] = plan[todo[item]];
+      RenderArgs frame_args = args;
+      frame_args.output_path = output;
+      render_frame(frame_args, scene_at_frame(*scene, frame), frame);
+    });
+    return 0;
+  }
+  const int threads = resolve_thread_count(args.threads.value_or(0));
+  for (int item : todo) {
+    const auto& [frame, output] = plan[item];
+    const Scene frame_scene = scene_at_frame(*scene, frame);
+    const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
+    mpi::DistributedStats stats;
+    const Image image = mpi::render_image(frame_scene, *accel, threads, 16, &stats);
+    if (session.rank != 0) continue;
+    write_image(image, output);
+    if (args.quiet) continue;
+    const RenderSettings& r = frame_scene.render;
+    std::string split;
+    for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k) split += (k ? "/" : "") + std::to_string(stats.tiles_by_rank[k]);
+    std::fprintf(stderr,
+                 "glint: %s: %dx%d, %d spp, %d ranks x %d thread%s: render %.3f s (total %.3f s); tiles by rank %s; "
+                 "%llu bytes sent; %.2f Mrays/s\n",
+                 output.c_str(), r.width, r.height, r.samples_per_pixel, session.size, threads, threads == 1 ? "" : "s",
+                 stats.seconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                 split.c_str(), static_cast<unsigned long long>(stats.bytes_sent),
+                 stats.seconds > 0 ? stats.rays.total() / stats.seconds / 1e6 : 0.0);
+  }
+  return 0;
+}
+#endif
 
 }  // namespace
 
