@@ -393,7 +393,6 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
   std::vector<std::pair<int, std::string>> plan;
   std::string error;
   try {
-    if (args.resume) throw Error("--resume is for single-process renders; under mpirun use --skip-existing");
     scene = load_scene(args.scene_path);
     apply_overrides(args, scene->render);
     plan = plan_frames(args, *scene);
@@ -429,9 +428,19 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
       const auto& [frame, output] = plan[todo[item]];
       RenderArgs frame_args = args;
       frame_args.output_path = output;
-      render_frame(frame_args, scene_at_frame(*scene, frame), frame);
+      try {
+        render_frame(frame_args, scene_at_frame(*scene, frame), frame);
+      } catch (const Interrupted& e) {
+        throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
+      }
     });
     return 0;
+  }
+  if (args.resume) {
+    // Tiles of one image come from every rank: there is no one resume file.
+    if (session.rank == 0) print_error("--resume works when frames go to ranks (more frames than ranks); "
+                                       "for a frame split in tiles over ranks, render it again");
+    return 1;
   }
   const int threads = resolve_thread_count(args.threads.value_or(0));
   for (int item : todo) {

@@ -235,6 +235,9 @@ void follow(LocalWork& work, int depth, const Results& results, Traffic& traffic
 void run(LocalWork& work, int count, int depth, const Results& results, Traffic& traffic) {
   if (world_rank() == 0) coordinate(work, count, depth, results, traffic);
   else follow(work, depth, results, traffic);
+  // No rank starts the next run (the next frame) while rank 0 may still be in
+  // this one: it would answer the next run's first request with "no more".
+  check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
 }
 
 }  // namespace
