@@ -8,6 +8,7 @@ PACKAGES=(
   nlohmann-json3-dev libstb-dev libpng-dev libtinyexr-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtinyobjloader-dev libassimp-dev libembree-dev
+  libopenmpi-dev openmpi-bin
   python3 python3-jsonschema
   "$@"
 )
