@@ -153,11 +153,16 @@ struct ExplainArgs {
   bool json = false;
   std::optional<int> width, height, max_depth;
   std::optional<std::string> shading_model;
+  int frame = 0;  // of an animation
 };
 
 int run_explain(const ExplainArgs& args) {
   using namespace glint;
-  Scene scene = load_scene(args.scene_path);
+  const Scene loaded = load_scene(args.scene_path);
+  if (args.frame >= frame_count(loaded))
+    throw Error("--frame " + std::to_string(args.frame) + ": the scene has frames 0-" +
+                std::to_string(frame_count(loaded) - 1));
+  Scene scene = scene_at_frame(loaded, args.frame);
   RenderSettings& r = scene.render;
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
@@ -505,6 +510,8 @@ int main(int argc, char** argv) {
   explain->add_option("scene", explain_args.scene_path, "scene file (JSON)")->required();
   explain->add_option("--pixel", explain_args.pixel, "pixel X Y (0 0 is the top-left)")->required()->expected(2);
   explain->add_flag("--json", explain_args.json, "print one JSON object (the format of docs/scene-format.md)");
+  explain->add_option("--frame", explain_args.frame, "frame of an animated scene (default 0)")
+      ->check(whole_number_in(0, glint::kMaxFrames - 1));
   explain->add_option("--width", explain_args.width, "image width in pixels")->check(whole_number_in(1, 1 << 20));
   explain->add_option("--height", explain_args.height, "image height in pixels")->check(whole_number_in(1, 1 << 20));
   explain->add_option("--max-depth", explain_args.max_depth, "longest ray path (camera ray = 1)")

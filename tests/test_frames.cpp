@@ -2,6 +2,7 @@
 // the output name, --skip-existing; every frame's file is the library's render
 // of that frame's scene.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -127,6 +128,27 @@ TEST_F(CliFrames, SkipExistingRendersOnlyMissingOrUnfinishedFrames) {
   EXPECT_EQ(fs::last_write_time(work_ / "f_0.pfm"), written);
   for (int f = 1; f < 4; ++f) EXPECT_EQ(read_image(work_ / ("f_" + std::to_string(f) + ".pfm")).rgb, library_frame(f).rgb);
   EXPECT_FALSE(fs::exists(work_ / "f_1.pfm.glint-resume"));
+}
+
+TEST_F(CliFrames, ExplainFollowsTheFrame) {
+  // A pixel that differs between frame 0 and frame 3 (the ball moved).
+  auto spp1_frame = [&](int frame) {
+    Scene scene = scene_at_frame(load_scene(scene_), frame);
+    scene.render.samples_per_pixel = 1;
+    return render_image(scene, *build_accelerator(scene));
+  };
+  const Image first = spp1_frame(0), last = spp1_frame(3);
+  int x = 0, y = 0;
+  while (y < last.height && first.pixel(x, y)[0] == last.pixel(x, y)[0]) {
+    if (++x == last.width) x = 0, ++y;
+  }
+  ASSERT_LT(y, last.height) << "nothing moved";
+  const std::string command = "'" GLINT_CLI_PATH "' explain '" + scene_ + "' --json --frame 3 --pixel " +
+                              std::to_string(x) + " " + std::to_string(y) + " > '" + (work_ / "explain.json").string() + "'";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  std::ifstream in(work_ / "explain.json");
+  const auto color = nlohmann::json::parse(in)["color"];
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(static_cast<float>(color[c].get<double>()), last.pixel(x, y)[c]);
 }
 
 }  // namespace
