@@ -358,9 +358,10 @@ int run_render(const RenderArgs& args) {
 
 int run_render_local(const RenderArgs& args) {
   using namespace glint;
-  const Scene scene = load_scene(args.scene_path);
+  Scene scene = load_scene(args.scene_path);
   if (!args.quiet)
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  const bool animated = scene.animation.frames > 0;
   for (const auto& [frame, output] : plan_frames(args, scene)) {
     if (args.skip_existing && frame_done(output)) {
       if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", output.c_str());
@@ -368,7 +369,8 @@ int run_render_local(const RenderArgs& args) {
     }
     RenderArgs frame_args = args;
     frame_args.output_path = output;
-    render_frame(frame_args, scene_at_frame(scene, frame), frame);
+    // A still scene has one frame: hand it over rather than copy it (meshes can be large).
+    render_frame(frame_args, animated ? scene_at_frame(scene, frame) : std::move(scene), frame);
   }
   return 0;
 }
@@ -450,7 +452,8 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
   const int threads = resolve_thread_count(args.threads.value_or(0));
   for (int item : todo) {
     const auto& [frame, output] = plan[item];
-    const Scene frame_scene = scene_at_frame(*scene, frame);
+    Scene moved;
+    const Scene& frame_scene = scene->animation.frames > 0 ? (moved = scene_at_frame(*scene, frame)) : *scene;
     const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
     mpi::DistributedStats stats;
     const Image image = mpi::render_image(frame_scene, *accel, threads, 16, &stats);
