@@ -465,10 +465,11 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
     for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k) split += (k ? "/" : "") + std::to_string(stats.tiles_by_rank[k]);
     std::fprintf(stderr,
                  "glint: %s: %dx%d, %d spp, %d ranks x %d thread%s: render %.3f s (total %.3f s); tiles by rank %s; "
-                 "%llu bytes sent; %.2f Mrays/s\n",
+                 "%llu bytes sent (%llu of pixels); %.2f Mrays/s\n",
                  output.c_str(), r.width, r.height, r.samples_per_pixel, session.size, threads, threads == 1 ? "" : "s",
                  stats.seconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                  split.c_str(), static_cast<unsigned long long>(stats.bytes_sent),
+                 static_cast<unsigned long long>(stats.pixel_bytes),
                  stats.seconds > 0 ? stats.rays.total() / stats.seconds / 1e6 : 0.0);
   }
   return 0;

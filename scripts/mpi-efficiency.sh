@@ -30,7 +30,7 @@ read -r w1 r1 < <(best_of "$glint" render "$scene" -o "$out/a.exr" --threads 2)
 read -r w2 r2 < <(best_of "${mpirun[@]}" -np 1 "$glint" render "$scene" -o "$out/b.exr" --threads 2)
 read -r w3 r3 < <(best_of "${mpirun[@]}" -np 2 "$glint" render "$scene" -o "$out/c.exr" --threads 1)
 cmp "$out/a.exr" "$out/c.exr"
-grep -o '[0-9]* bytes sent' "$out/log"
+grep -o "tiles by rank.*of pixels)" "$out/log"
 echo "| 1 process x 2 threads (no mpirun) | $w1 s | $r1 s |"
 echo "| mpirun -np 1, 2 threads | $w2 s | $r2 s |"
 echo "| mpirun -np 2, 1 thread each | $w3 s | $r3 s |"

@@ -308,7 +308,9 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
     for (int y = y0; y < y1; ++y) std::memcpy(buffer.data() + sizeof(int) + row * (y - y0), image.pixel(x0, y), row);
     return buffer;
   };
+  uint64_t pixel_bytes = 0;
   results.unpack = [&](const std::vector<char>& buffer) {
+    pixel_bytes += buffer.size() - sizeof(int);
     int t = 0;
     std::memcpy(&t, buffer.data(), sizeof(int));
     int x0, y0, x1, y1;
@@ -341,6 +343,7 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
   if (stats) {
     stats->rays = RayStats{sum[0], sum[1], sum[2], sum[3]};
     stats->bytes_sent = sum[4];
+    stats->pixel_bytes = pixel_bytes;
     stats->tiles_by_rank = traffic.items_by_rank;
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

@@ -45,6 +45,7 @@ void broadcast(std::vector<int>& values);
 struct DistributedStats {
   RayStats rays;            // summed over ranks (rank 0)
   uint64_t bytes_sent = 0;  // by every rank to every other, summed (rank 0)
+  uint64_t pixel_bytes = 0;  // of that, tile pixels received by rank 0 (the rest: tile numbers, requests)
   std::vector<int> tiles_by_rank;  // rank 0
   double seconds = 0;
 };
