@@ -249,10 +249,11 @@ void apply_overrides(const RenderArgs& args, glint::RenderSettings& r) {
   if (args.width || args.height) check_image_size(r.width, r.height, SourceLocation{});
 }
 
-// Renders one image: `scene` is the frame's scene, args.output_path its file.
-int render_frame(const RenderArgs& args, glint::Scene scene, int frame) {
+// Renders one image: `scene` is the frame's scene, args.output_path its file;
+// the stats line's total counts from `start`.
+int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
+                 std::chrono::steady_clock::time_point start) {
   using namespace glint;
-  const auto start = std::chrono::steady_clock::now();
   const std::filesystem::path output(args.output_path);
   check_output_path(args.output_path);
   RenderSettings& r = scene.render;
@@ -358,6 +359,10 @@ int run_render(const RenderArgs& args) {
 
 int run_render_local(const RenderArgs& args) {
   using namespace glint;
+  auto start = std::chrono::steady_clock::now();
+  // Before the (possibly long) load: the output's format and folder do not
+  // depend on the frame number.
+  check_output_path(frame_output_path(args.output_path, 0).value_or(args.output_path));
   Scene scene = load_scene(args.scene_path);
   if (!args.quiet)
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -370,7 +375,8 @@ int run_render_local(const RenderArgs& args) {
     RenderArgs frame_args = args;
     frame_args.output_path = output;
     // A still scene has one frame: hand it over rather than copy it (meshes can be large).
-    render_frame(frame_args, animated ? scene_at_frame(scene, frame) : std::move(scene), frame);
+    render_frame(frame_args, animated ? scene_at_frame(scene, frame) : std::move(scene), frame, start);
+    start = std::chrono::steady_clock::now();
   }
   return 0;
 }
@@ -436,7 +442,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
       RenderArgs frame_args = args;
       frame_args.output_path = output;
       try {
-        render_frame(frame_args, scene_at_frame(*scene, frame), frame);
+        render_frame(frame_args, scene_at_frame(*scene, frame), frame, std::chrono::steady_clock::now());
       } catch (const Interrupted& e) {
         throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
       }
