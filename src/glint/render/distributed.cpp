@@ -99,11 +99,13 @@ void maybe_die(int rank, int finished) {
   if (die && finished > 0 && std::atoi(die) == rank) raise(SIGKILL);
 }
 
-// Waits for local progress, or up to `pause` for remote messages to arrive.
-// The pause doubles while nothing happens (50 us to 1 ms), so polling costs
-// little CPU on a busy machine yet answers quickly when work flows.
-void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, bool progressed) {
-  pause = progressed ? std::chrono::microseconds(50) : std::min(pause * 2, std::chrono::microseconds(1000));
+// Waits until a local item finishes (workers wake us), or up to `pause` so
+// that messages from other ranks are polled. The pause doubles while no
+// message comes (250 us to 2 ms): polling takes little CPU from the workers,
+// and queues of threads + 2 tiles cover a round trip to rank 0.
+constexpr auto kMinPause = std::chrono::microseconds(250), kMaxPause = std::chrono::microseconds(2000);
+void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, bool heard) {
+  pause = heard ? kMinPause : std::min(pause * 2, kMaxPause);
   std::unique_lock lock(work.m);
   work.wake.wait_for(lock, pause, [&] { return !work.finished.empty() || work.error; });
 }
@@ -121,9 +123,9 @@ void coordinate(LocalWork& work, int count, int depth, const Results& results, T
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   traffic.items_by_rank.assign(size, 0);
   int next = 0, done = 0, ranks_told = 0;
-  auto pause = std::chrono::microseconds(50);
+  auto pause = kMinPause;
   for (;;) {
-    bool progressed = false;
+    bool heard = false;  // a message from another rank
     int flag = 0;
     MPI_Status status;
     for (check(MPI_Iprobe(MPI_ANY_SOURCE, kRequest, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe"); flag;
@@ -137,7 +139,7 @@ void coordinate(LocalWork& work, int count, int depth, const Results& results, T
       check(MPI_Send(items.data(), static_cast<int>(items.size()), MPI_INT, status.MPI_SOURCE, kItems, MPI_COMM_WORLD),
             "MPI_Send");
       traffic.bytes += items.size() * sizeof(int);
-      progressed = true;
+      heard = true;
     }
     for (check(MPI_Iprobe(MPI_ANY_SOURCE, kResult, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe"); flag;
          check(MPI_Iprobe(MPI_ANY_SOURCE, kResult, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe")) {
@@ -149,7 +151,7 @@ void coordinate(LocalWork& work, int count, int depth, const Results& results, T
       results.unpack(buffer);
       ++done;
       ++traffic.items_by_rank[status.MPI_SOURCE];
-      progressed = true;
+      heard = true;
     }
     bool idle = false;
     {
@@ -161,7 +163,6 @@ void coordinate(LocalWork& work, int count, int depth, const Results& results, T
       traffic.items_by_rank[0] += static_cast<int>(work.finished.size());
       done += static_cast<int>(work.finished.size());
       maybe_die(0, static_cast<int>(work.finished.size()));
-      progressed |= !work.finished.empty();
       work.finished.clear();
       idle = work.closed && work.queue.empty() && work.busy == 0;
     }
@@ -169,7 +170,7 @@ void coordinate(LocalWork& work, int count, int depth, const Results& results, T
     // finish theirs on their own.
     const bool all_done = results.pack ? done == count : idle;
     if (all_done && idle && ranks_told == size - 1) return;
-    pause_until_progress(work, pause, progressed);
+    pause_until_progress(work, pause, heard);
   }
 }
 
@@ -179,9 +180,9 @@ void follow(LocalWork& work, int depth, const Results& results, Traffic& traffic
   const int rank = world_rank();
   bool exhausted = false, awaiting = false;
   int want = 0, finished_total = 0;
-  auto pause = std::chrono::microseconds(50);
+  auto pause = kMinPause;
   for (;;) {
-    bool progressed = false;
+    bool heard = false;  // the reply from rank 0
     std::vector<int> finished;
     int outstanding = 0;
     bool idle = false;
@@ -200,7 +201,6 @@ void follow(LocalWork& work, int depth, const Results& results, Traffic& traffic
         traffic.bytes += buffer.size();
       }
       maybe_die(rank, ++finished_total);
-      progressed = true;
     }
     if (!exhausted && !awaiting && outstanding < depth) {
       want = depth - outstanding;
@@ -224,11 +224,11 @@ void follow(LocalWork& work, int depth, const Results& results, Traffic& traffic
         work.ready.notify_all();
         idle = false;
         awaiting = false;
-        progressed = true;
+        heard = true;
       }
     }
     if (exhausted && idle && finished.empty()) return;
-    pause_until_progress(work, pause, progressed);
+    pause_until_progress(work, pause, heard);
   }
 }
 
