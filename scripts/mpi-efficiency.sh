@@ -2,7 +2,8 @@
 # Distributed efficiency on one machine: 2 ranks x 1 thread against 1 rank x
 # 2 threads on a scene, best of RUNS runs of each (interleaved, so a burst of
 # load from elsewhere hits every configuration alike): wall time from launch
-# to exit, and the render part from glint's stats line.
+# to exit, the render part from glint's stats line, and the CPU time (user +
+# system, of every process: the cost of the distribution).
 # Usage: scripts/mpi-efficiency.sh [RUNS] [SCENE]   (build/glint built with MPI)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,24 +18,23 @@ configs=(
   "mpirun -np 1 --bind-to none, 2 threads|${mpirun[*]} -np 1 --bind-to none $glint render $scene -o $out/b.exr --threads 2"
   "mpirun -np 2, 1 thread each|${mpirun[*]} -np 2 $glint render $scene -o $out/c.exr --threads 1"
 )
-declare -A wall render
+declare -A wall render cpu
+min() { echo "if ($1 < $2) $1 else $2" | bc -l; }
 for _ in $(seq "$runs"); do
   for i in "${!configs[@]}"; do
     command=${configs[$i]#*|}
-    start=$(date +%s.%N)
-    $command 2> "$out/log"
-    end=$(date +%s.%N)
-    w=$(echo "$end - $start" | bc -l)
+    /usr/bin/time -o "$out/time" -f "%e %U %S" $command 2> "$out/log"
+    read -r w u sys < "$out/time"
+    c=$(echo "$u + $sys" | bc -l)
     r=$(sed -n 's/.*render \([0-9.]*\) s.*/\1/p' "$out/log" | tail -1)
-    [ -z "${wall[$i]:-}" ] || w=$(echo "if ($w < ${wall[$i]}) $w else ${wall[$i]}" | bc -l)
-    [ -z "${render[$i]:-}" ] || r=$(echo "if ($r < ${render[$i]}) $r else ${render[$i]}" | bc -l)
-    wall[$i]=$w render[$i]=$r
+    [ -z "${wall[$i]:-}" ] || { w=$(min "$w" "${wall[$i]}"); r=$(min "$r" "${render[$i]}"); c=$(min "$c" "${cpu[$i]}"); }
+    wall[$i]=$w render[$i]=$r cpu[$i]=$c
     [ "$i" -eq 2 ] && grep -o "tiles by rank.*of pixels)" "$out/log"
   done
 done
 cmp "$out/a.exr" "$out/c.exr" && echo "2-rank image == 1-process image"
 for i in "${!configs[@]}"; do
-  printf "| %s | %.3f s | %.3f s |\n" "${configs[$i]%%|*}" "${wall[$i]}" "${render[$i]}"
+  printf "| %s | %.3f s | %.3f s | %.2f s |\n" "${configs[$i]%%|*}" "${wall[$i]}" "${render[$i]}" "${cpu[$i]}"
 done
 printf "2 ranks x 1 thread / 1 rank x 2 threads: wall %.3f, render part %.3f\n" \
   "$(echo "${wall[2]} / ${wall[1]}" | bc -l)" "$(echo "${render[2]} / ${render[1]}" | bc -l)"
