@@ -220,6 +220,13 @@ int run_info(const std::string& scene_path) {
   std::printf("lights     %zu: %zu ambient, %zu point, %zu directional, %zu spot, %zu area\n", scene.lights.size(),
               lights_by_type[0], lights_by_type[1], lights_by_type[2], lights_by_type[3], lights_by_type[4]);
   std::printf("materials  %zu (and the default)\n", scene.materials.size() - 1);
+  if (scene.animation.frames > 0)
+    std::printf("animation  %d frames at %g fps, %zu animated object%s%s\n", scene.animation.frames,
+                scene.animation.fps, scene.animation.objects.size(), scene.animation.objects.size() == 1 ? "" : "s",
+                scene.animation.camera.position.empty() && scene.animation.camera.look_at.empty() &&
+                        scene.animation.camera.up.empty() && scene.animation.camera.fov_y.empty()
+                    ? ""
+                    : ", animated camera");
   if (!bounds.empty())
     std::printf("bounds     (%g, %g, %g) to (%g, %g, %g), planes excluded\n", bounds.lo.x, bounds.lo.y, bounds.lo.z,
                 bounds.hi.x, bounds.hi.y, bounds.hi.z);

@@ -151,5 +151,15 @@ TEST_F(CliFrames, ExplainFollowsTheFrame) {
   for (int c = 0; c < 3; ++c) EXPECT_EQ(static_cast<float>(color[c].get<double>()), last.pixel(x, y)[c]);
 }
 
+TEST_F(CliFrames, InfoNamesTheAnimation) {
+  const std::string command = "'" GLINT_CLI_PATH "' info '" + scene_ + "' > '" + (work_ / "info.txt").string() + "'";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  std::ifstream in(work_ / "info.txt");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("animation  4 frames at 2 fps, 2 animated objects, animated camera\n"), std::string::npos)
+      << text.str();
+}
+
 }  // namespace
 }  // namespace glint
