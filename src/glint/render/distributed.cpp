@@ -102,7 +102,7 @@ void maybe_die(int rank, int finished) {
 // Waits until a local item finishes (workers wake us), or up to `pause` so
 // that messages from other ranks are polled. The pause doubles while no
 // message comes (250 us to 2 ms): polling takes little CPU from the workers,
-// and queues of threads + 2 tiles cover a round trip to rank 0.
+// and each rank's queue of tiles covers a round trip to rank 0.
 constexpr auto kMinPause = std::chrono::microseconds(250), kMaxPause = std::chrono::microseconds(2000);
 void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, bool heard) {
   pause = heard ? kMinPause : std::min(pause * 2, kMaxPause);
@@ -333,9 +333,11 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
     }
   });
   Traffic traffic;
-  // Enough queued per rank that no worker waits for a round trip to rank 0,
-  // few enough that a slow rank does not sit on tiles others could render.
-  run(work, tiles_x * tiles_y, threads + 2, results, traffic);
+  // Enough queued per rank that no worker waits for a round trip to rank 0
+  // (up to two polling pauses, a few tiles' time: threads + 2 left rank 1's
+  // one worker idle 20% of the time on the showcase), few enough that a slow
+  // rank holds the frame's end back by only a few of its tiles' time.
+  run(work, tiles_x * tiles_y, 4 * threads + 4, results, traffic);
   renderer.join();
 
   uint64_t mine[5] = {rays.camera, rays.shadow, rays.reflection, rays.refraction, traffic.bytes}, sum[5] = {};
