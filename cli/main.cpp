@@ -24,7 +24,11 @@
 #include "glint/image/image.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
+#include "glint/render/frames.h"
 #include "glint/render/passes.h"
+#ifdef GLINT_HAVE_MPI
+#include "glint/render/distributed.h"
+#endif
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
 #include "glint/io/file_io.h"
@@ -50,6 +54,8 @@ struct RenderArgs {
   std::optional<std::string> pixel_filter;
   std::optional<int> adaptive_max_spp;
   std::optional<double> adaptive_threshold;
+  std::optional<std::string> frames;  // "N" or "A-B"
+  bool skip_existing = false;
 };
 
 glint::AccelBackend backend_named(const std::string& name) {
@@ -176,11 +182,16 @@ struct ExplainArgs {
   bool json = false;
   std::optional<int> width, height, max_depth;
   std::optional<std::string> shading_model;
+  int frame = 0;  // of an animation
 };
 
 int run_explain(const ExplainArgs& args) {
   using namespace glint;
-  Scene scene = load_scene(args.scene_path);
+  const Scene loaded = load_scene(args.scene_path);
+  if (args.frame >= frame_count(loaded))
+    throw Error("--frame " + std::to_string(args.frame) + ": the scene has frames 0-" +
+                std::to_string(frame_count(loaded) - 1));
+  Scene scene = scene_at_frame(loaded, args.frame);
   RenderSettings& r = scene.render;
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
@@ -253,6 +264,13 @@ int run_info(const std::string& scene_path) {
   std::printf("materials  %zu (and the default)\n", scene.materials.size() - 1);
   if (!scene.textures.empty())
     std::printf("textures   %zu, %zu image files\n", scene.textures.size(), scene.texture_images.size());
+  if (scene.animation.frames > 0)
+    std::printf("animation  %d frames at %g fps, %zu animated object%s%s\n", scene.animation.frames,
+                scene.animation.fps, scene.animation.objects.size(), scene.animation.objects.size() == 1 ? "" : "s",
+                scene.animation.camera.position.empty() && scene.animation.camera.look_at.empty() &&
+                        scene.animation.camera.up.empty() && scene.animation.camera.fov_y.empty()
+                    ? ""
+                    : ", animated camera");
   if (!bounds.empty())
     std::printf("bounds     (%g, %g, %g) to (%g, %g, %g), planes excluded\n", bounds.lo.x, bounds.lo.y, bounds.lo.z,
                 bounds.hi.x, bounds.hi.y, bounds.hi.z);
@@ -300,44 +318,19 @@ void write_outputs(const glint::Image& image, const glint::PassImages& passes, c
   write_image(image, output, light);
 }
 
-int run_render(const RenderArgs& args) {
+void check_output_path(const std::string& path) {
   using namespace glint;
-  const auto start = std::chrono::steady_clock::now();
-  // From the start: a signal while the scene loads stops the render before
-  // its first tile (and still leaves a resume file), rather than killing glint.
-  install_interrupt_handlers();
-  const std::filesystem::path output(args.output_path);
+  const std::filesystem::path output(path);
   if (!image_format_for_path(output))
-    throw Error(args.output_path + ": unsupported output format (supported: " +
-                std::string(supported_image_extensions()) + ")");
+    throw Error(path + ": unsupported output format (supported: " + std::string(supported_image_extensions()) + ")");
   const std::filesystem::path out_dir = output.has_parent_path() ? output.parent_path() : ".";
   if (!std::filesystem::is_directory(out_dir))
-    throw Error(args.output_path + ": output folder " + out_dir.string() + " does not exist");
+    throw Error(path + ": output folder " + out_dir.string() + " does not exist");
+}
 
-  std::vector<Pass> pass_list;
-  if (args.passes) pass_list = parse_pass_list(*args.passes);
-  if (args.passes_layered) {
-    if (image_format_for_path(output) != ImageFormat::exr)
-      throw Error(args.output_path + ": --passes-layered writes one multi-layer EXR: the output must be .exr");
-    if (!args.passes) pass_list = parse_pass_list("all");
-  }
-
-  WriteOptions light;  // how 8-bit outputs encode the image and its color passes
-  if (args.exposure) light.exposure = *args.exposure;
-  if (args.tonemap)
-    light.tonemap = *args.tonemap == "reinhard" ? ToneMap::reinhard
-                    : *args.tonemap == "aces"   ? ToneMap::aces
-                                                : ToneMap::clamp;
-  const bool linear_output = !is_8bit_format(*image_format_for_path(output));
-
-  Scene scene = load_scene(args.scene_path);
-  if (!args.quiet) {
-    for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (linear_output && (args.exposure || args.tonemap))
-      std::fprintf(stderr, "warning: %s holds linear values: --exposure and --tonemap apply to 8-bit outputs "
-                   "(.png .jpg .ppm) only and are ignored\n", args.output_path.c_str());
-  }
-  RenderSettings& r = scene.render;
+// The command line's settings over the scene's.
+void apply_overrides(const RenderArgs& args, glint::RenderSettings& r) {
+  using namespace glint;
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
   if (args.spp) r.samples_per_pixel = *args.spp;
@@ -359,10 +352,49 @@ int run_render(const RenderArgs& args) {
   if (r.adaptive && r.adaptive->max_samples_per_pixel < r.samples_per_pixel)
     throw Error("adaptive sampling: the most samples per pixel (" + std::to_string(r.adaptive->max_samples_per_pixel) +
                 ") is below samples_per_pixel (" + std::to_string(r.samples_per_pixel) + ")");
+}
+
+// The passes asked for (--passes, --passes-layered), checked against the output.
+std::vector<glint::Pass> requested_passes(const RenderArgs& args) {
+  using namespace glint;
+  std::vector<Pass> pass_list;
+  if (args.passes) pass_list = parse_pass_list(*args.passes);
+  if (args.passes_layered) {
+    if (image_format_for_path(args.output_path) != ImageFormat::exr)
+      throw Error(args.output_path + ": --passes-layered writes one multi-layer EXR: the output must be .exr");
+    if (!args.passes) pass_list = parse_pass_list("all");
+  }
+  return pass_list;
+}
+
+// How 8-bit outputs encode the image and its color passes.
+glint::WriteOptions light_options(const RenderArgs& args) {
+  using namespace glint;
+  WriteOptions light;
+  if (args.exposure) light.exposure = *args.exposure;
+  if (args.tonemap)
+    light.tonemap = *args.tonemap == "reinhard" ? ToneMap::reinhard
+                    : *args.tonemap == "aces"   ? ToneMap::aces
+                                                : ToneMap::clamp;
+  return light;
+}
+
+// Renders one image: `scene` is the frame's scene, args.output_path its file;
+// the stats line's total counts from `start`.
+int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
+                 std::chrono::steady_clock::time_point start) {
+  using namespace glint;
+  const std::filesystem::path output(args.output_path);
+  check_output_path(args.output_path);
+  const std::vector<Pass> pass_list = requested_passes(args);
+  const WriteOptions light = light_options(args);
+  RenderSettings& r = scene.render;
+  apply_overrides(args, r);
 
   // The resume key covers the scene file and the settings that shape pixels.
   const std::filesystem::path resume_path = resume_path_for(output);
-  const uint64_t key = resume_key(read_file(args.scene_path), r);
+  uint64_t key = resume_key(read_file(args.scene_path), r);
+  if (scene.animation.frames > 0) key ^= 0x9e3779b97f4a7c15ULL * static_cast<uint64_t>(frame + 1);  // one per frame
   Image image;
   TileProgress tiles;
   PassImages passes;
@@ -394,6 +426,7 @@ int run_render(const RenderArgs& args) {
   ProgressBar bar;
   if (!args.quiet && isatty(STDERR_FILENO)) options.progress = [&bar](double f) { bar.update(f); };
   RenderStats stats;
+  install_interrupt_handlers();
   const bool complete = render_tiles(scene, *accel, image, tiles, options, &stats, &passes);
   if (!complete) {
     // Interrupted: keep the finished tiles (the rest is background) and what
@@ -436,6 +469,182 @@ int run_render(const RenderArgs& args) {
   return 0;
 }
 
+// --- frames: animations, --frames, --skip-existing ------------------------
+// The frames to render and each one's output name; errors before any render.
+std::vector<std::pair<int, std::string>> plan_frames(const RenderArgs& args, const glint::Scene& scene) {
+  using namespace glint;
+  std::vector<int> frames;
+  if (args.frames) frames = parse_frame_range(*args.frames, frame_count(scene));
+  else
+    for (int f = 0; f < frame_count(scene); ++f) frames.push_back(f);
+  std::vector<std::pair<int, std::string>> plan;
+  for (int f : frames) plan.emplace_back(f, frame_output_path(args.output_path, f).value_or(args.output_path));
+  if (plan.size() > 1 && plan[0].second == args.output_path)
+    throw Error(args.output_path + ": " + std::to_string(plan.size()) +
+                " frames need a frame number in the output name, exactly one %d or %0Nd (e.g. out_%04d.png)");
+  return plan;
+}
+
+// A frame is done when its image exists and no interrupted render left a
+// resume file beside it (that image would be partial).
+bool frame_done(const std::string& output) {
+  std::error_code ec;
+  return std::filesystem::exists(output, ec) && !std::filesystem::exists(glint::resume_path_for(output), ec);
+}
+
+int run_render_local(const RenderArgs& args);
+#ifdef GLINT_HAVE_MPI
+int run_render_mpi(const RenderArgs& args);
+#endif
+
+int run_render(const RenderArgs& args) {
+  using namespace glint;
+#ifdef GLINT_HAVE_MPI
+  if (glint::mpi::launched()) return run_render_mpi(args);
+#endif
+  return run_render_local(args);
+}
+
+int run_render_local(const RenderArgs& args) {
+  using namespace glint;
+  auto start = std::chrono::steady_clock::now();
+  // From the start: a signal while the scene loads stops the render before
+  // its first tile (and still leaves a resume file), rather than killing glint.
+  install_interrupt_handlers();
+  // Before the (possibly long) load: the output's format and folder and the
+  // passes do not depend on the frame number.
+  const std::string first_output = frame_output_path(args.output_path, 0).value_or(args.output_path);
+  check_output_path(first_output);
+  requested_passes(args);
+  Scene scene = load_scene(args.scene_path);
+  if (!args.quiet) {
+    for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (!is_8bit_format(*image_format_for_path(first_output)) && (args.exposure || args.tonemap))
+      std::fprintf(stderr, "warning: %s holds linear values: --exposure and --tonemap apply to 8-bit outputs "
+                   "(.png .jpg .ppm) only and are ignored\n", args.output_path.c_str());
+  }
+  const bool animated = scene.animation.frames > 0;
+  for (const auto& [frame, output] : plan_frames(args, scene)) {
+    if (args.skip_existing && frame_done(output)) {
+      if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", output.c_str());
+      continue;
+    }
+    RenderArgs frame_args = args;
+    frame_args.output_path = output;
+    // A still scene has one frame: hand it over rather than copy it (meshes can be large).
+    render_frame(frame_args, animated ? scene_at_frame(scene, frame) : std::move(scene), frame, start);
+    start = std::chrono::steady_clock::now();
+  }
+  return 0;
+}
+
+#ifdef GLINT_HAVE_MPI
+// --- distributed: under mpirun / srun (GLINT_MPI) --------------------------
+// Every rank loads the scene itself; they agree it loaded everywhere before
+// any work is handed out, so a bad scene ends every rank with no hang.
+// More frames than ranks: whole frames go to ranks (each writes its own);
+// otherwise each frame's tiles are spread over all ranks and rank 0 writes it.
+int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& session);
+
+int run_render_mpi(const RenderArgs& args) {
+  const glint::mpi::Session session;
+  if (session.size == 1) {
+    // One rank: exactly the single-process render (interrupt, resume and all).
+    RenderArgs local = args;
+    return run_render_local(local);
+  }
+  return run_render_distributed(args, session);
+}
+
+int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& session) {
+  using namespace glint;
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<Scene> scene;
+  std::vector<std::pair<int, std::string>> plan;
+  std::string error;
+  try {
+    scene = load_scene(args.scene_path);
+    apply_overrides(args, scene->render);
+    plan = plan_frames(args, *scene);
+    for (const auto& [frame, output] : plan) check_output_path(output);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  const std::vector<int> failed = mpi::failed_ranks(error.empty());
+  if (!failed.empty()) {
+    // Rank 0 speaks for all when it failed too (the same file, the same error).
+    if (!error.empty() && (session.rank == 0 || failed.front() != 0))
+      print_error(session.rank == 0 ? error : "rank " + std::to_string(session.rank) + ": " + error);
+    return 1;
+  }
+  if (session.rank == 0 && !args.quiet)
+    for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+
+  // Rank 0 alone decides which frames are missing, so ranks on file systems
+  // that disagree cannot deadlock over different lists.
+  std::vector<int> todo;
+  if (session.rank == 0)
+    for (size_t i = 0; i < plan.size(); ++i) {
+      if (args.skip_existing && frame_done(plan[i].second)) {
+        if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", plan[i].second.c_str());
+        continue;
+      }
+      todo.push_back(static_cast<int>(i));
+    }
+  mpi::broadcast(todo);
+
+  if (static_cast<int>(todo.size()) > session.size) {
+    mpi::run_items(static_cast<int>(todo.size()), [&](int item) {
+      const auto& [frame, output] = plan[todo[item]];
+      RenderArgs frame_args = args;
+      frame_args.output_path = output;
+      try {
+        render_frame(frame_args, scene_at_frame(*scene, frame), frame, std::chrono::steady_clock::now());
+      } catch (const Interrupted& e) {
+        throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
+      }
+    });
+    return 0;
+  }
+  if (args.passes || args.passes_layered || scene->render.adaptive) {
+    // Tiles of one image come from every rank as image pixels only.
+    if (session.rank == 0) print_error("--passes and adaptive sampling work when frames go to ranks (more frames "
+                                       "than ranks); for a frame split in tiles over ranks, render without them");
+    return 1;
+  }
+  if (args.resume) {
+    // Tiles of one image come from every rank: there is no one resume file.
+    if (session.rank == 0) print_error("--resume works when frames go to ranks (more frames than ranks); "
+                                       "for a frame split in tiles over ranks, render it again");
+    return 1;
+  }
+  const int threads = resolve_thread_count(args.threads.value_or(0));
+  for (int item : todo) {
+    const auto& [frame, output] = plan[item];
+    Scene moved;
+    const Scene& frame_scene = scene->animation.frames > 0 ? (moved = scene_at_frame(*scene, frame)) : *scene;
+    const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
+    mpi::DistributedStats stats;
+    const Image image = mpi::render_image(frame_scene, *accel, threads, 16, &stats);
+    if (session.rank != 0) continue;
+    write_image(image, output, light_options(args));
+    if (args.quiet) continue;
+    const RenderSettings& r = frame_scene.render;
+    std::string split;
+    for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k) split += (k ? "/" : "") + std::to_string(stats.tiles_by_rank[k]);
+    std::fprintf(stderr,
+                 "glint: %s: %dx%d, %d spp, %d ranks x %d thread%s: render %.3f s (total %.3f s); tiles by rank %s; "
+                 "%llu bytes sent (%llu of pixels); %.2f Mrays/s\n",
+                 output.c_str(), r.width, r.height, r.samples_per_pixel, session.size, threads, threads == 1 ? "" : "s",
+                 stats.seconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                 split.c_str(), static_cast<unsigned long long>(stats.bytes_sent),
+                 static_cast<unsigned long long>(stats.pixel_bytes),
+                 stats.seconds > 0 ? stats.rays.total() / stats.seconds / 1e6 : 0.0);
+  }
+  return 0;
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -458,6 +667,8 @@ int main(int argc, char** argv) {
       ->check(one_of({"bvh", "embree"}, "accelerator"));
   render->add_flag("-q,--quiet", args.quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
+  render->add_option("--frames", args.frames, "animation frames to render: N or A-B (default: all)");
+  render->add_flag("--skip-existing", args.skip_existing, "do not render frames whose output exists (and is complete)");
   render->add_option("--exposure", args.exposure, "8-bit outputs: multiply linear values by 2^EV first")
       ->check(number_in(-64, 64));
   render->add_option("--tonemap", args.tonemap, "8-bit outputs: clamp (default), reinhard or aces")
@@ -489,6 +700,8 @@ int main(int argc, char** argv) {
   explain->add_option("scene", explain_args.scene_path, "scene file (JSON)")->required();
   explain->add_option("--pixel", explain_args.pixel, "pixel X Y (0 0 is the top-left)")->required()->expected(2);
   explain->add_flag("--json", explain_args.json, "print one JSON object (the format of docs/scene-format.md)");
+  explain->add_option("--frame", explain_args.frame, "frame of an animated scene (default 0)")
+      ->check(whole_number_in(0, glint::kMaxFrames - 1));
   explain->add_option("--width", explain_args.width, "image width in pixels")->check(whole_number_in(1, 1 << 20));
   explain->add_option("--height", explain_args.height, "image height in pixels")->check(whole_number_in(1, 1 << 20));
   explain->add_option("--max-depth", explain_args.max_depth, "longest ray path (camera ray = 1)")

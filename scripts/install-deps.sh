@@ -9,6 +9,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtinyobjloader-dev libassimp-dev libembree-dev
   assimp-testmodels
+  libopenmpi-dev openmpi-bin
   python3 python3-jsonschema
   "$@"
 )

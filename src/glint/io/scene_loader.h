@@ -32,6 +32,7 @@ Scene parse_scene(std::string text, const std::string& filename, const std::file
 inline constexpr int kMaxDepthLimit = 1000;
 inline constexpr int kMaxSamplesPerPixel = 1 << 16;
 inline constexpr int kMaxAreaLightSamples = 1 << 16;
+inline constexpr int kMaxFrames = 1000000;  // animation.frames
 
 // Throws when a width x height float image would not fit in this machine's memory.
 void check_image_size(int width, int height, const SourceLocation& where);

@@ -12,6 +12,7 @@
 
 #include "glint/math/bounds.h"
 #include "glint/math/transform.h"
+#include "glint/scene/animation.h"
 
 namespace glint {
 
@@ -187,6 +188,9 @@ struct Scene {
   // Names the scene file gave objects (most have none; kept apart so Object
   // stays 16 bytes for scenes of millions of objects).
   std::unordered_map<uint32_t, std::string> object_names;
+  // Keyframes of the scene file's "animation" (frames == 0: none); see
+  // scene/animation.h for the scene at a given frame.
+  Animation animation;
 
   Scene();  // with the default material in place
 };

@@ -1,0 +1,64 @@
+// Distributed rendering over MPI (built with GLINT_MPI; the glint_mpi
+// library). Rank 0 hands out work on demand (tiles of one image, or whole
+// frames) and also renders; every rank renders with its own threads. Only
+// each rank's main thread calls MPI (MPI_THREAD_FUNNELED): it polls for
+// messages while worker threads render.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "glint/accel/accelerator.h"
+#include "glint/image/image.h"
+#include "glint/render/integrator.h"
+#include "glint/scene/scene.h"
+
+namespace glint::mpi {
+
+// Whether an MPI launcher (mpirun, mpiexec, srun) started this process.
+bool launched();
+
+// MPI_Init_thread (funneled) on construction, MPI_Finalize on destruction.
+// Errors on MPI_COMM_WORLD return codes (MPI_ERRORS_RETURN); glint turns a
+// failed call into an `error:` naming the rank, then aborts the job.
+class Session {
+ public:
+  Session();
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+  int rank = 0, size = 1;
+};
+
+// Prints `error: rank R: what` and ends every rank (MPI_Abort): no rank is
+// left waiting for one that gave up.
+[[noreturn]] void abort_job(int rank, const std::string& what);
+
+// Collective: the ranks whose `ok` is false (the same list on every rank).
+std::vector<int> failed_ranks(bool ok);
+
+// Collective: rank 0's `values` on every rank.
+void broadcast(std::vector<int>& values);
+
+struct DistributedStats {
+  RayStats rays;            // summed over ranks (rank 0)
+  uint64_t bytes_sent = 0;  // by every rank to every other, summed (rank 0)
+  uint64_t pixel_bytes = 0;  // of that, tile pixels received by rank 0 (the rest: tile numbers, requests)
+  std::vector<int> tiles_by_rank;  // rank 0
+  double seconds = 0;
+};
+
+// Collective. Renders `scene` over all ranks, tiles of `tile_size` handed
+// out by rank 0 on demand; finished tiles' pixels go to rank 0. Returns the
+// whole image on rank 0 (bit-identical to render_image), an empty one elsewhere.
+Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size = 16,
+                   DistributedStats* stats = nullptr);
+
+// Collective. Hands out items 0..count-1 on demand, one at a time per rank;
+// each rank calls render(item) for the items it gets (from another thread).
+// An exception from render aborts the job with the rank's error.
+void run_items(int count, const std::function<void(int item)>& render);
+
+}  // namespace glint::mpi

@@ -1,0 +1,44 @@
+#include "glint/render/tile_stream.h"
+
+#include <algorithm>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "glint/render/renderer.h"
+
+namespace glint {
+
+RayStats render_tile_stream(const Scene& scene, const Accelerator& accel, Image& image, const TileStream& stream,
+                            int threads) {
+  const int w = scene.render.width, h = scene.render.height, tile = stream.tile_size;
+  const int tiles_x = (w + tile - 1) / tile;
+  const Integrator integrator(scene, accel);
+  std::mutex stats_mutex;
+  RayStats total;
+  auto worker = [&] {
+    TraceContext ctx{Rng(0), {}};
+    for (int t = stream.next(); t >= 0; t = stream.next()) {
+      const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
+      for (int y = y0; y < std::min(y0 + tile, h); ++y) {
+        for (int x = x0; x < std::min(x0 + tile, w); ++x) {
+          // render_pixel is what render_tiles stores: the same bits.
+          const Color c = render_pixel(integrator, scene, x, y, ctx);
+          float* px = image.pixel(x, y);
+          px[0] = static_cast<float>(c.x);
+          px[1] = static_cast<float>(c.y);
+          px[2] = static_cast<float>(c.z);
+        }
+      }
+      if (stream.done) stream.done(t);
+    }
+    std::lock_guard lock(stats_mutex);
+    total += ctx.stats;
+  };
+  std::vector<std::thread> pool;
+  for (int i = 0; i < std::max(1, threads); ++i) pool.emplace_back(worker);
+  for (std::thread& t : pool) t.join();
+  return total;
+}
+
+}  // namespace glint
