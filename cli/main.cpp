@@ -22,6 +22,7 @@
 #include "glint/accel/accelerator.h"
 #include "glint/error.h"
 #include "glint/image/image.h"
+#include "glint/io/memory_limit.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
 #include "glint/render/frames.h"
@@ -214,15 +215,6 @@ int run_validate(const std::string& scene_path, bool quiet) {
   return errors.empty() ? 0 : 1;
 }
 
-std::string human_bytes(double bytes) {
-  char buf[32];
-  if (bytes >= 1 << 30) std::snprintf(buf, sizeof buf, "%.2f GiB", bytes / (1 << 30));
-  else if (bytes >= 1 << 20) std::snprintf(buf, sizeof buf, "%.2f MiB", bytes / (1 << 20));
-  else if (bytes >= 1 << 10) std::snprintf(buf, sizeof buf, "%.1f KiB", bytes / (1 << 10));
-  else std::snprintf(buf, sizeof buf, "%.0f B", bytes);
-  return buf;
-}
-
 double texture_bytes(const glint::Scene& scene) {
   double bytes = static_cast<double>(scene.textures.capacity() * sizeof(glint::Texture));
   for (const glint::TextureImage& image : scene.texture_images)
@@ -274,9 +266,10 @@ int run_info(const std::string& scene_path) {
   if (!bounds.empty())
     std::printf("bounds     (%g, %g, %g) to (%g, %g, %g), planes excluded\n", bounds.lo.x, bounds.lo.y, bounds.lo.z,
                 bounds.hi.x, bounds.hi.y, bounds.hi.z);
-  std::printf("memory     scene %s + BVH %s + image %s = %s\n", human_bytes(scene_bytes).c_str(),
-              human_bytes(static_cast<double>(accel->memory_bytes())).c_str(), human_bytes(image_bytes).c_str(),
-              human_bytes(scene_bytes + static_cast<double>(accel->memory_bytes()) + image_bytes).c_str());
+  const double accel_bytes = static_cast<double>(accel->memory_bytes());
+  std::printf("memory     scene %s + BVH %s + image %s = %s\n", format_bytes(scene_bytes).c_str(),
+              format_bytes(accel_bytes).c_str(), format_bytes(image_bytes).c_str(),
+              format_bytes(scene_bytes + accel_bytes + image_bytes).c_str());
   return 0;
 }
 
