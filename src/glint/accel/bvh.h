@@ -130,40 +130,46 @@ bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf) {
   bool found = false;
   const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
   float t_max = clamp_to_float(ray.t_max);
-  stack[top++] = {0, 0, -INFINITY};
-  while (top > 0) {
-    const Entry e = stack[--top];
-    if (e.t > t_max * (1.0f + 0x1p-20f)) continue;  // a nearer hit was found since
+  // The nearest child is visited next without a trip through the stack; the
+  // order of visits is the same as pushing every child far to near.
+  Entry e{0, 0, -INFINITY};
+  for (;;) {
     if (e.count > 0) {
       if (leaf(e.child, e.count, ray)) {
         found = true;
         t_max = clamp_to_float(ray.t_max);
       }
-      continue;
-    }
-    const BvhNode& n = bvh.nodes[e.child];
-    FloatLanes t_near;
-    int mask = hit_children(n, slabs, t_min, t_max, t_near);
-    if (!mask) continue;
-    alignas(32) float t[kBvhWidth];
-    lanes_store(t, t_near);
-    // Push far to near so the nearest child is popped first.
-    Entry hits[kBvhWidth];
-    int k = 0;
-    while (mask) {
-      const int i = __builtin_ctz(mask);
-      mask &= mask - 1;
-      Entry h{n.child[i], n.count[i], t[i]};
-      int j = k++;
-      while (j > 0 && hits[j - 1].t < h.t) {
-        hits[j] = hits[j - 1];
-        --j;
+    } else {
+      const BvhNode& n = bvh.nodes[e.child];
+      FloatLanes t_near;
+      int mask = hit_children(n, slabs, t_min, t_max, t_near);
+      if (mask) {
+        alignas(32) float t[kBvhWidth];
+        lanes_store(t, t_near);
+        Entry hits[kBvhWidth];  // far to near
+        int k = 0;
+        while (mask) {
+          const int i = __builtin_ctz(mask);
+          mask &= mask - 1;
+          Entry h{n.child[i], n.count[i], t[i]};
+          int j = k++;
+          while (j > 0 && hits[j - 1].t < h.t) {
+            hits[j] = hits[j - 1];
+            --j;
+          }
+          hits[j] = h;
+        }
+        for (int i = 0; i + 1 < k; ++i) stack[top++] = hits[i];
+        e = hits[k - 1];
+        continue;
       }
-      hits[j] = h;
     }
-    for (int i = 0; i < k; ++i) stack[top++] = hits[i];
+    // Next: the nearest pushed entry still in front of the nearest hit.
+    do {
+      if (top == 0) return found;
+      e = stack[--top];
+    } while (e.t > t_max * (1.0f + 0x1p-20f));
   }
-  return found;
 }
 
 // Closest hit: `intersect(prim, ray)` returns true and shrinks ray.t_max when
@@ -188,23 +194,30 @@ bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf) {
   int top = 0;
   const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
   const float t_max = clamp_to_float(ray.t_max);
-  stack[top++] = {0, 0};
-  while (top > 0) {
-    const Entry e = stack[--top];
+  // The last child hit is visited next without a trip through the stack (the
+  // order of visits is the same as pushing them all).
+  Entry e{0, 0};
+  for (;;) {
     if (e.count > 0) {
       if (leaf(e.child, e.count, ray)) return true;
-      continue;
+    } else {
+      const BvhNode& n = bvh.nodes[e.child];
+      FloatLanes t_near;
+      int mask = hit_children(n, slabs, t_min, t_max, t_near);
+      if (mask) {
+        int last = 0;
+        while (mask) {
+          last = __builtin_ctz(mask);
+          mask &= mask - 1;
+          if (mask) stack[top++] = {n.child[last], n.count[last]};
+        }
+        e = {n.child[last], n.count[last]};
+        continue;
+      }
     }
-    const BvhNode& n = bvh.nodes[e.child];
-    FloatLanes t_near;
-    int mask = hit_children(n, slabs, t_min, t_max, t_near);
-    while (mask) {
-      const int i = __builtin_ctz(mask);
-      mask &= mask - 1;
-      stack[top++] = {n.child[i], n.count[i]};
-    }
+    if (top == 0) return false;
+    e = stack[--top];
   }
-  return false;
 }
 
 // Any hit: stops at the first primitive for which `hits(prim, ray)` is true.
