@@ -230,11 +230,12 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   struct Entry { uint32_t child, count; int mask; };
   Entry stack[kTraversalStack];
   int top = 0;
-  stack[top++] = {0, 0, all};
   const __m256 widen = _mm256_set1_ps(1.0f + 4.0f * 0x1p-23f);
   const __m256 zero = _mm256_setzero_ps();
-  while (top > 0) {
-    const Entry e = stack[--top];
+  // As in traverse_closest_leaves: the nearest child is visited next without
+  // a trip through the stack.
+  Entry e{0, 0, all};
+  for (;;) {
     if (e.count > 0) {
       for (uint32_t b = e.child; b < e.child + e.count; ++b) {
         const Triangle4& block = m.blocks[b];
@@ -280,6 +281,8 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
           }
         }
       }
+      if (top == 0) break;
+      e = stack[--top];
       continue;
     }
     const BvhNode& n = m.bvh.nodes[e.child];
@@ -312,7 +315,13 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
       hits[j] = {n.child[c], n.count[c], mask};
       near[j] = d;
     }
-    for (int i = 0; i < k; ++i) stack[top++] = hits[i];
+    if (k > 0) {
+      for (int i = 0; i + 1 < k; ++i) stack[top++] = hits[i];
+      e = hits[k - 1];
+      continue;
+    }
+    if (top == 0) break;
+    e = stack[--top];
   }
   _mm256_store_ps(p.t_max, t_max);
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(p.triangle), hit_triangle);
