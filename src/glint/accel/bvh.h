@@ -7,6 +7,7 @@
 
 #include <immintrin.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -29,6 +30,8 @@ inline FloatLanes lanes_mul(FloatLanes a, FloatLanes b) { return _mm256_mul_ps(a
 inline FloatLanes lanes_max(FloatLanes a, FloatLanes b) { return _mm256_max_ps(a, b); }
 inline FloatLanes lanes_min(FloatLanes a, FloatLanes b) { return _mm256_min_ps(a, b); }
 inline int lanes_le_mask(FloatLanes a, FloatLanes b) { return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ)); }
+// b where `select` is all ones, else a (`select` lanes are all ones or zero).
+inline FloatLanes lanes_blend(FloatLanes a, FloatLanes b, FloatLanes select) { return _mm256_blendv_ps(a, b, select); }
 #else
 inline constexpr int kBvhWidth = 4;
 using FloatLanes = __m128;
@@ -40,6 +43,13 @@ inline FloatLanes lanes_mul(FloatLanes a, FloatLanes b) { return _mm_mul_ps(a, b
 inline FloatLanes lanes_max(FloatLanes a, FloatLanes b) { return _mm_max_ps(a, b); }
 inline FloatLanes lanes_min(FloatLanes a, FloatLanes b) { return _mm_min_ps(a, b); }
 inline int lanes_le_mask(FloatLanes a, FloatLanes b) { return _mm_movemask_ps(_mm_cmple_ps(a, b)); }
+inline FloatLanes lanes_blend(FloatLanes a, FloatLanes b, FloatLanes select) {
+#if defined(__SSE4_1__)
+  return _mm_blendv_ps(a, b, select);
+#else
+  return _mm_or_ps(_mm_and_ps(select, b), _mm_andnot_ps(select, a));
+#endif
+}
 #endif
 
 // kBvhWidth child boxes in SoA layout (bounds[axis*2 + 0/1][child] = lo/hi).
@@ -76,25 +86,29 @@ Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options = 
 // Per-ray constants for the wide slab test.
 struct RaySlabs {
   FloatLanes origin[3], inv_dir[3];
-  int near_lo[3];  // row of bounds[] holding the near plane per axis
+  // All bits set where the direction is negative on that axis (the near
+  // plane is then the box's hi side): a blend picks the planes, which keeps
+  // the general-purpose registers free for the traversal.
+  FloatLanes negative[3];
   explicit RaySlabs(const Ray& ray) {
     for (int a = 0; a < 3; ++a) {
       const float inv = static_cast<float>(1.0 / ray.direction[a]);
       origin[a] = lanes_set1(static_cast<float>(ray.origin[a]));
       inv_dir[a] = lanes_set1(inv);
       // From the inverse, so a direction of -0.0 (inverse -inf) counts as negative.
-      near_lo[a] = std::signbit(inv) ? 1 : 0;
+      negative[a] = lanes_set1(std::bit_cast<float>(std::signbit(inv) ? ~0u : 0u));
     }
   }
 };
 
 // Bit i set when the ray overlaps child i within (t_min, t_max); `t_near`
 // gets the entry distances.
-inline int hit_children(const BvhNode& n, const RaySlabs& r, float t_min, float t_max, FloatLanes& t_near) {
-  FloatLanes lo_t = lanes_set1(t_min), hi_t = lanes_set1(t_max);
+inline int hit_children(const BvhNode& n, const RaySlabs& r, FloatLanes t_min, float t_max, FloatLanes& t_near) {
+  FloatLanes lo_t = t_min, hi_t = lanes_set1(t_max);
   for (int a = 0; a < 3; ++a) {
-    const FloatLanes near_plane = lanes_load(n.bounds[2 * a + r.near_lo[a]]);
-    const FloatLanes far_plane = lanes_load(n.bounds[2 * a + 1 - r.near_lo[a]]);
+    const FloatLanes lo = lanes_load(n.bounds[2 * a]), hi = lanes_load(n.bounds[2 * a + 1]);
+    const FloatLanes near_plane = lanes_blend(lo, hi, r.negative[a]);
+    const FloatLanes far_plane = lanes_blend(hi, lo, r.negative[a]);
     const FloatLanes t0 = lanes_mul(lanes_sub(near_plane, r.origin[a]), r.inv_dir[a]);
     const FloatLanes t1 = lanes_mul(lanes_sub(far_plane, r.origin[a]), r.inv_dir[a]);
     // max/min return the second operand when one is NaN (origin on a slab
@@ -117,18 +131,31 @@ inline float clamp_to_float(double t) {
   return t >= 3.0e38 ? INFINITY : static_cast<float>(t);
 }
 
+// std::nextafter(x, 0.0f) without the library call: one step toward zero
+// (+inf gives the largest float; zero and NaN stay).
+inline float float_toward_zero(float x) {
+  if (x == 0.0f || x != x) return x;
+  return std::bit_cast<float>(std::bit_cast<uint32_t>(x) - 1u);
+}
+
 // Closest hit over leaves: `leaf(first, count, ray)` tests a leaf's range
 // (first/count as stored in the node) and returns true after shrinking
 // ray.t_max to a nearer hit. Children are visited near to far.
-template <class LeafFn>
-bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf) {
+// `prefetch(first, count)` is told of every leaf found hit, before the
+// children are ordered: its data is then on its way when the leaf's turn comes.
+struct NoPrefetch {
+  void operator()(uint32_t, uint32_t) const {}
+};
+
+template <class LeafFn, class PrefetchFn = NoPrefetch>
+bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf, PrefetchFn&& prefetch = {}) {
   if (bvh.nodes.empty()) return false;
   const RaySlabs slabs(ray);
   struct Entry { uint32_t child, count; float t; };
   Entry stack[kTraversalStack];
   int top = 0;
   bool found = false;
-  const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
+  const FloatLanes t_min = lanes_set1(static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f);
   float t_max = clamp_to_float(ray.t_max);
   // The nearest child is visited next without a trip through the stack; the
   // order of visits is the same as pushing every child far to near.
@@ -146,21 +173,50 @@ bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf) {
       if (mask) {
         alignas(32) float t[kBvhWidth];
         lanes_store(t, t_near);
-        Entry hits[kBvhWidth];  // far to near
-        int k = 0;
+        // One or two children hit are the common cases: no sort.
+        const int i0 = __builtin_ctz(mask);
+        mask &= mask - 1;
+        const Entry c0{n.child[i0], n.count[i0], t[i0]};
+        if (c0.count) prefetch(c0.child, c0.count);
+        if (!mask) {
+          e = c0;
+          continue;
+        }
+        const int i1 = __builtin_ctz(mask);
+        mask &= mask - 1;
+        const Entry c1{n.child[i1], n.count[i1], t[i1]};
+        if (c1.count) prefetch(c1.child, c1.count);
+        if (!mask) {
+          // Ties go to the later child, as the general case below orders them.
+          if (c0.t < c1.t) {
+            stack[top++] = c1;
+            e = c0;
+          } else {
+            stack[top++] = c0;
+            e = c1;
+          }
+          continue;
+        }
+        // Three or more: onto the stack, sorted far to near in place.
+        const int base = top;
+        auto insert = [&](const Entry& h) {
+          int j = top++;
+          while (j > base && stack[j - 1].t < h.t) {
+            stack[j] = stack[j - 1];
+            --j;
+          }
+          stack[j] = h;
+        };
+        insert(c0);
+        insert(c1);
         while (mask) {
           const int i = __builtin_ctz(mask);
           mask &= mask - 1;
-          Entry h{n.child[i], n.count[i], t[i]};
-          int j = k++;
-          while (j > 0 && hits[j - 1].t < h.t) {
-            hits[j] = hits[j - 1];
-            --j;
-          }
-          hits[j] = h;
+          const Entry h{n.child[i], n.count[i], t[i]};
+          if (h.count) prefetch(h.child, h.count);
+          insert(h);
         }
-        for (int i = 0; i + 1 < k; ++i) stack[top++] = hits[i];
-        e = hits[k - 1];
+        e = stack[--top];
         continue;
       }
     }
@@ -192,7 +248,7 @@ bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf) {
   struct Entry { uint32_t child, count; };
   Entry stack[kTraversalStack];
   int top = 0;
-  const float t_min = static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f;
+  const FloatLanes t_min = lanes_set1(static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f);
   const float t_max = clamp_to_float(ray.t_max);
   // The last child hit is visited next without a trip through the stack (the
   // order of visits is the same as pushing them all).

@@ -63,9 +63,12 @@ struct WatertightRay4 {
     kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
     kx = kz == 2 ? 0 : kz + 1;
     ky = kx == 2 ? 0 : kx + 1;
-    sx = _mm_set1_ps(-d[kx] / d[kz]);
-    sy = _mm_set1_ps(-d[ky] / d[kz]);
-    sz = _mm_set1_ps(1.0f / d[kz]);
+    // One division: the shear only has to be the same for every triangle
+    // (and for packets, which compute it alike), not correctly rounded.
+    const float inv_z = 1.0f / d[kz];
+    sx = _mm_set1_ps(-d[kx] * inv_z);
+    sy = _mm_set1_ps(-d[ky] * inv_z);
+    sz = _mm_set1_ps(inv_z);
     origin[0] = _mm_set1_ps(static_cast<float>(ray.origin.x));
     origin[1] = _mm_set1_ps(static_cast<float>(ray.origin.y));
     origin[2] = _mm_set1_ps(static_cast<float>(ray.origin.z));
@@ -99,7 +102,7 @@ inline int intersect_block(const Triangle4& b, const WatertightRay4& r, __m128 t
 float float_t_min(const Ray& ray) { return static_cast<float>(ray.t_min); }
 
 // The largest float below the ray's t_max: "t <= this" is "t < t_max" in float.
-float float_t_max_inclusive(const Ray& ray) { return std::nextafter(clamp_to_float(ray.t_max), 0.0f); }
+float float_t_max_inclusive(const Ray& ray) { return float_toward_zero(clamp_to_float(ray.t_max)); }
 
 // Among hits at the same float distance (a ray through a shared edge), the
 // lower triangle index wins, so the answer does not depend on the order the
@@ -144,6 +147,11 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
     }
     if (found) r.t_max = best;
     return found;
+  }, [&](uint32_t first, uint32_t count) {
+    // Leaf blocks come from anywhere in memory; nodes hit near the root stay cached.
+    const char* p = reinterpret_cast<const char*>(&m.blocks[first]);
+    const char* end = reinterpret_cast<const char*>(&m.blocks[first + count]);
+    for (; p < end; p += 64) _mm_prefetch(p, _MM_HINT_T0);
   });
   if (!found) return false;
   t_hit = best;
@@ -175,7 +183,7 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
       p.inv_direction[a][i] = static_cast<float>(1.0 / r.direction[a]);
     }
     p.t_min[i] = static_cast<float>(r.t_min);
-    p.t_max[i] = std::nextafter(clamp_to_float(r.t_max), 0.0f);  // inclusive, as intersect_mesh_bvh
+    p.t_max[i] = float_toward_zero(clamp_to_float(r.t_max));  // inclusive, as intersect_mesh_bvh
     p.triangle[i] = kNoTriangle;
   }
   return p;
@@ -209,9 +217,9 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   // Per-lane constants, computed as the single-ray kernels compute them.
   alignas(32) float sx[kPacketSize], sy[kPacketSize], sz[kPacketSize];
   for (int i = 0; i < kPacketSize; ++i) {
-    sx[i] = -p.direction[kx][i] / p.direction[kz][i];
-    sy[i] = -p.direction[ky][i] / p.direction[kz][i];
     sz[i] = 1.0f / p.direction[kz][i];
+    sx[i] = -p.direction[kx][i] * sz[i];
+    sy[i] = -p.direction[ky][i] * sz[i];
   }
   __m256 origin[3], inv_dir[3];
   for (int a = 0; a < 3; ++a) {

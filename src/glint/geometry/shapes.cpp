@@ -54,7 +54,9 @@ ShearedTriangle shear_triangle(const Triangle& tri, const Ray& ray) {
   const int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
   const int kx = kz == 2 ? 0 : kz + 1;
   const int ky = kx == 2 ? 0 : kx + 1;
-  const double sx = -d[kx] / d[kz], sy = -d[ky] / d[kz], sz = 1.0 / d[kz];
+  // One division: the shear must be the same for every triangle a ray
+  // meets (that is what closes the cracks), not correctly rounded.
+  const double sz = 1.0 / d[kz], sx = -d[kx] * sz, sy = -d[ky] * sz;
   const Vec3 a = tri.v0 - ray.origin, b = tri.v1 - ray.origin, c = tri.v2 - ray.origin;
   const double ax2 = a[kx] + sx * a[kz], ay2 = a[ky] + sy * a[kz];
   const double bx2 = b[kx] + sx * b[kz], by2 = b[ky] + sy * b[kz];
