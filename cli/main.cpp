@@ -163,7 +163,10 @@ CLI::Validator number_in(double lo, double hi) {
 // One of `names`, with a did-you-mean hint for near misses.
 CLI::Validator one_of(std::vector<std::string_view> names, std::string what) {
   std::string list;
-  for (std::string_view n : names) list += (list.empty() ? "" : "|") + std::string(n);
+  for (std::string_view n : names) {
+    if (!list.empty()) list += '|';
+    list += n;
+  }
   return CLI::Validator(
       [names, what](std::string& text) -> std::string {
         if (std::find(names.begin(), names.end(), text) != names.end()) return {};
