@@ -383,9 +383,14 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "runs per measurement; the best is reported");
   bool only_ours = false;
   app.add_flag("--only-ours", only_ours, "measure our BVH alone (for profiling)");
+  std::string kinds_arg = "camera,shadow,mirror,packets";
+  app.add_option("--rays", kinds_arg, "what to measure (for profiling one): camera, shadow, mirror, packets");
   CLI11_PARSE(app, argc, argv);
   const std::vector<size_t> sizes = parse_list(sizes_arg);
   const std::vector<size_t> thread_counts = parse_list(threads_arg);
+  auto wanted = [&](const char* kind) { return ("," + kinds_arg + ",").find("," + std::string(kind) + ",") != std::string::npos; };
+  const bool want_camera = wanted("camera"), want_shadow = wanted("shadow"), want_mirror = wanted("mirror"),
+             want_packets = wanted("packets");
 
   std::printf("glint_bench_accel: %dx%d camera rays, best of %d; Mrays/s\n\n", width, height, repeat);
   // Scaling: per kernel, per size, the cost of a camera ray and a mirror ray
@@ -420,11 +425,13 @@ int main(int argc, char** argv) {
                   k.peak_bytes_per_triangle);
       for (size_t t : thread_counts) {
         uint64_t camera_hits = 0, shadow_hits = 0;
-        const double cam = mrays(k.closest, rays.camera, static_cast<int>(t), repeat, &camera_hits);
-        const double sh = mrays(k.any, rays.shadow, static_cast<int>(t), repeat, &shadow_hits);
-        const double mir = mrays(k.closest, rays.mirror, static_cast<int>(t), repeat, nullptr);
-        const double pkt =
-            k.closest_packets ? mrays(k.closest_packets, rays.camera, static_cast<int>(t), repeat, nullptr) : 0.0;
+        // 0: not measured (--rays), printed as such.
+        const double cam = want_camera ? mrays(k.closest, rays.camera, static_cast<int>(t), repeat, &camera_hits) : 0.0;
+        const double sh = want_shadow ? mrays(k.any, rays.shadow, static_cast<int>(t), repeat, &shadow_hits) : 0.0;
+        const double mir = want_mirror ? mrays(k.closest, rays.mirror, static_cast<int>(t), repeat, nullptr) : 0.0;
+        const double pkt = want_packets && k.closest_packets
+                               ? mrays(k.closest_packets, rays.camera, static_cast<int>(t), repeat, nullptr)
+                               : 0.0;
         row.insert(row.end(), {cam, sh, mir, pkt});
         std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", cam, sh, mir, pkt);
         (void)camera_hits;
@@ -445,8 +452,9 @@ int main(int argc, char** argv) {
       for (size_t i = 0; i < thread_counts.size(); ++i) {
         const double* a = &results[0][4 * i];
         const double* b = &results[2][4 * i];
-        std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", a[0] / b[0], a[1] / b[1], a[2] / b[2],
-                    b[3] > 0 ? a[3] / b[3] : 0.0);
+        auto ratio = [](double x, double y) { return y > 0 ? x / y : 0.0; };
+        std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", ratio(a[0], b[0]), ratio(a[1], b[1]), ratio(a[2], b[2]),
+                    ratio(a[3], b[3]));
       }
       std::printf("   (build and bytes: lower is better; rays: higher; cam-pkt: our 8-ray packets / Embree 16-ray packets)\n");
     }
@@ -465,8 +473,8 @@ int main(int argc, char** argv) {
     for (const auto& [name, points] : scaling) {
       std::printf("%-13s", name.c_str());
       for (const auto& [tris, m] : points)
-        std::printf("  %zuk: %.2f / %.2f", tris / 1000, points.front().second[0] / m[0],
-                    points.front().second[1] / m[1]);
+        std::printf("  %zuk: %.2f / %.2f", tris / 1000, m[0] > 0 ? points.front().second[0] / m[0] : 0.0,
+                    m[1] > 0 ? points.front().second[1] / m[1] : 0.0);
       std::printf("\n");
     }
   }

@@ -177,33 +177,39 @@ class BvhAccelerator final : public Accelerator {
     // The steps of intersect() ray by ray, with the mesh traced as a packet:
     // planes first (they bound t_max), then the mesh, then the refinement.
     const Object& object = scene_.objects[single_mesh_];
-    Ray bounded[kPacketSize], object_rays[kPacketSize];
-    for (int i = 0; i < count; ++i) {
-      Ray& ray = bounded[i];
-      ray = rays[i];
-      hits[i].reset();
-      for (uint32_t p : planes_) {
-        Hit h;
-        if (intersect_object(scene_, p, ray, h)) {
-          ray.t_max = h.t;
-          hits[i] = h;
+    const MeshBvh& mesh_bvh = mesh_bvhs_[object.shape];
+    // Rays bounded by the planes' hits, in the mesh's space (copies only when
+    // there are planes or a transform).
+    const Ray* object_rays = rays;
+    Ray copies[kPacketSize];
+    for (int i = 0; i < count; ++i) hits[i].reset();
+    if (!planes_.empty() || object.transform != kNoTransform) {
+      for (int i = 0; i < count; ++i) {
+        Ray ray = rays[i];
+        for (uint32_t p : planes_) {
+          Hit h;
+          if (intersect_object(scene_, p, ray, h)) {
+            ray.t_max = h.t;
+            hits[i] = h;
+          }
         }
+        copies[i] = to_object_space(scene_, object, ray);
       }
-      object_rays[i] = to_object_space(scene_, object, ray);
+      object_rays = copies;
     }
     RayPacket packet = make_ray_packet(object_rays, count);
-    if (!intersect_mesh_packet(mesh_bvhs_[object.shape], packet)) {
+    if (!intersect_mesh_packet(mesh_bvh, packet)) {
       for (int i = 0; i < count; ++i) {
         Hit h;
-        if (intersect_object(scene_, single_mesh_, bounded[i], h, &mesh_bvhs_)) hits[i] = h;
+        if (intersect_mesh(scene_.meshes[object.shape], &mesh_bvh, single_mesh_, object_rays[i], h)) hits[i] = h;
       }
       return;
     }
     for (int i = 0; i < count; ++i) {
       if (packet.triangle[i] == kNoTriangle) continue;
       const Ray& r = object_rays[i];
-      const Triangle vertices = mesh_triangle(scene_.meshes[object.shape], packet.triangle[i]);
-      const TriangleHit h = triangle_plane_hit(vertices, r);
+      // The vertices from the block the kernel just read, as intersect_mesh does.
+      const TriangleHit h = triangle_plane_hit(block_triangle(mesh_bvh.blocks[packet.slot[i] / 4], packet.slot[i] % 4), r);
       const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(packet.t_max[i]);
       hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i]};
     }

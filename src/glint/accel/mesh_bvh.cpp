@@ -1,5 +1,6 @@
 #include "glint/accel/mesh_bvh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -72,6 +73,11 @@ struct WatertightRay4 {
     origin[0] = _mm_set1_ps(static_cast<float>(ray.origin.x));
     origin[1] = _mm_set1_ps(static_cast<float>(ray.origin.y));
     origin[2] = _mm_set1_ps(static_cast<float>(ray.origin.z));
+  }
+  // Lane `i` of a packet whose frame (kx, ky, kz) and shear are computed as above.
+  WatertightRay4(const RayPacket& p, int i, int kx_, int ky_, int kz_, float sx_, float sy_, float sz_)
+      : kx(kx_), ky(ky_), kz(kz_), sx(_mm_set1_ps(sx_)), sy(_mm_set1_ps(sy_)), sz(_mm_set1_ps(sz_)) {
+    for (int a = 0; a < 3; ++a) origin[a] = _mm_set1_ps(p.origin[a][i]);
   }
 };
 
@@ -193,6 +199,12 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
 
 namespace {
 
+// A leaf reached by this many rays of a packet is tested triangle by
+// triangle against all of them at once; by fewer, ray by ray (four triangles
+// at once): measured on the terrain of bench/, where a leaf covers about two
+// pixels.
+constexpr int kLeafRaysForSimd = 4;
+
 int dominant_axis(float x, float y, float z) {
   const float ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
   return ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
@@ -221,11 +233,8 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
     sx[i] = -p.direction[kx][i] * sz[i];
     sy[i] = -p.direction[ky][i] * sz[i];
   }
-  __m256 origin[3], inv_dir[3];
-  for (int a = 0; a < 3; ++a) {
-    origin[a] = _mm256_load_ps(p.origin[a]);
-    inv_dir[a] = _mm256_load_ps(p.inv_direction[a]);
-  }
+  __m256 origin[3];
+  for (int a = 0; a < 3; ++a) origin[a] = _mm256_load_ps(p.origin[a]);
   const __m256 shear_x = _mm256_load_ps(sx), shear_y = _mm256_load_ps(sy), shear_z = _mm256_load_ps(sz);
   // Boxes are entered from t_min scaled down a little (bvh.h), triangles from t_min.
   const __m256 t_min = _mm256_load_ps(p.t_min);
@@ -233,106 +242,224 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
       _mm256_sub_ps(_mm256_mul_ps(t_min, _mm256_set1_ps(1.0f - 0x1p-20f)), _mm256_set1_ps(1e-30f));
   __m256 t_max = _mm256_load_ps(p.t_max);
   __m256i hit_triangle = _mm256_set1_epi32(static_cast<int>(kNoHitId));
-  const int all = (1 << p.count) - 1;
+  __m256i hit_slot = _mm256_setzero_si256();  // block * 4 + lane of the hit
 
-  struct Entry { uint32_t child, count; int mask; };
+  // Nodes are tested once for the whole packet, like a single ray, with
+  // interval arithmetic: per axis, the packet's origins and inverse
+  // directions as [lo, hi] ranges give a t range that holds every ray's own
+  // slab distances (float rounding is monotonic, so it holds for the rounded
+  // values too). A child is entered when any ray may hit it; leaves are then
+  // tested against every ray, so a ray's hits are exactly its own.
+  alignas(32) float o_lo[3], o_hi[3], inv_lo[3], inv_hi[3];
+  for (int a = 0; a < 3; ++a) {
+    o_lo[a] = o_hi[a] = p.origin[a][0];
+    inv_lo[a] = inv_hi[a] = p.inv_direction[a][0];
+    for (int i = 1; i < kPacketSize; ++i) {
+      o_lo[a] = std::min(o_lo[a], p.origin[a][i]);
+      o_hi[a] = std::max(o_hi[a], p.origin[a][i]);
+      inv_lo[a] = std::min(inv_lo[a], p.inv_direction[a][i]);
+      inv_hi[a] = std::max(inv_hi[a], p.inv_direction[a][i]);
+    }
+  }
+  // t = (plane - o) * inv. With inv > 0 it falls as o grows: the near bound
+  // takes the largest origin, the far bound the smallest; with inv < 0 the
+  // other way round. The sign of (plane - o) picks the inverse: both products
+  // are taken and the lower (near) or higher (far) kept.
+  __m256 near_origin[3], far_origin[3], inv_a[3], inv_b[3], near_row_mask[3];
+  for (int a = 0; a < 3; ++a) {
+    near_origin[a] = _mm256_set1_ps(negative[a] ? o_lo[a] : o_hi[a]);
+    far_origin[a] = _mm256_set1_ps(negative[a] ? o_hi[a] : o_lo[a]);
+    inv_a[a] = _mm256_set1_ps(inv_lo[a]);
+    inv_b[a] = _mm256_set1_ps(inv_hi[a]);
+    near_row_mask[a] = _mm256_castsi256_ps(_mm256_set1_epi32(negative[a] ? -1 : 0));
+  }
+  alignas(32) float lanes[kPacketSize];
+  _mm256_store_ps(lanes, box_t_min);
+  const __m256 node_t_min = _mm256_set1_ps(*std::min_element(lanes, lanes + kPacketSize));
+  // The farthest any ray still looks (its hit, or its t_max): boxes behind it are skipped.
+  auto farthest = [&] {
+    _mm256_store_ps(lanes, t_max);
+    return *std::max_element(lanes, lanes + kPacketSize);
+  };
+  float node_t_max = farthest();
+  const __m256 widen = _mm256_set1_ps(1.0f + 4.0f * 0x1p-23f);
+  const __m256 minus_inf = _mm256_set1_ps(-INFINITY), plus_inf = _mm256_set1_ps(INFINITY);
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256i active = _mm256_cmpgt_epi32(_mm256_set1_epi32(p.count), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+
+  // Per-ray box test of a leaf child (the packet test only says some ray may
+  // hit it): the rays that do, as a bit mask.
+  __m256 inv_dir[3];
+  for (int a = 0; a < 3; ++a) inv_dir[a] = _mm256_load_ps(p.inv_direction[a]);
+  auto rays_hitting = [&](const BvhNode& n, int c) {
+    __m256 lo_t = box_t_min, hi_t = t_max;
+    for (int a = 0; a < 3; ++a) {
+      const __m256 near_plane = _mm256_set1_ps(n.bounds[2 * a + (negative[a] ? 1 : 0)][c]);
+      const __m256 far_plane = _mm256_set1_ps(n.bounds[2 * a + (negative[a] ? 0 : 1)][c]);
+      lo_t = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near_plane, origin[a]), inv_dir[a]), lo_t);
+      hi_t = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, origin[a]), inv_dir[a]), hi_t);
+    }
+    hi_t = _mm256_mul_ps(hi_t, widen);  // as hit_children does
+    return _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(lo_t, hi_t, _CMP_LE_OQ), _mm256_castsi256_ps(active)));
+  };
+
+  // A block against the rays in `mask`, each triangle against all of them at
+  // once (worth it when many rays reach the block).
+  auto block_all_rays = [&](uint32_t b, int mask) {
+    const Triangle4& block = m.blocks[b];
+    const __m256 in_mask = _mm256_castsi256_ps(_mm256_cmpeq_epi32(
+        _mm256_and_si256(_mm256_set1_epi32(mask), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+        _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)));
+    bool hit = false;
+    for (int lane = 0; lane < 4; ++lane) {
+      __m256 x[3], y[3], z[3];
+      for (int v = 0; v < 3; ++v) {
+        z[v] = _mm256_sub_ps(_mm256_set1_ps(block.v[v][kz][lane]), origin[kz]);
+        x[v] = _mm256_add_ps(_mm256_sub_ps(_mm256_set1_ps(block.v[v][kx][lane]), origin[kx]),
+                             _mm256_mul_ps(shear_x, z[v]));
+        y[v] = _mm256_add_ps(_mm256_sub_ps(_mm256_set1_ps(block.v[v][ky][lane]), origin[ky]),
+                             _mm256_mul_ps(shear_y, z[v]));
+      }
+      const __m256 e0 = _mm256_sub_ps(_mm256_mul_ps(x[1], y[2]), _mm256_mul_ps(y[1], x[2]));
+      const __m256 e1 = _mm256_sub_ps(_mm256_mul_ps(x[2], y[0]), _mm256_mul_ps(y[2], x[0]));
+      const __m256 e2 = _mm256_sub_ps(_mm256_mul_ps(x[0], y[1]), _mm256_mul_ps(y[0], x[1]));
+      const __m256 any_neg = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_LT_OQ),
+                                                       _mm256_cmp_ps(e1, zero, _CMP_LT_OQ)),
+                                          _mm256_cmp_ps(e2, zero, _CMP_LT_OQ));
+      const __m256 any_pos = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_GT_OQ),
+                                                       _mm256_cmp_ps(e1, zero, _CMP_GT_OQ)),
+                                          _mm256_cmp_ps(e2, zero, _CMP_GT_OQ));
+      const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
+      const __m256 t_scaled = _mm256_mul_ps(
+          _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])), _mm256_mul_ps(e2, z[2])),
+          shear_z);
+      const __m256 t = _mm256_div_ps(t_scaled, det);
+      __m256 valid = _mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
+      valid = _mm256_and_ps(valid, _mm256_and_ps(_mm256_cmp_ps(t, t_min, _CMP_GT_OQ),
+                                                 _mm256_cmp_ps(t, t_max, _CMP_LE_OQ)));
+      // Nearer, or as near with a lower triangle index (as intersect_mesh_bvh).
+      const __m256i id = _mm256_set1_epi32(static_cast<int>(block.id[lane]));
+      valid = _mm256_and_ps(valid, _mm256_or_ps(_mm256_cmp_ps(t, t_max, _CMP_LT_OQ),
+                                                _mm256_castsi256_ps(_mm256_cmpgt_epi32(hit_triangle, id))));
+      valid = _mm256_and_ps(valid, in_mask);
+      if (_mm256_movemask_ps(valid)) {
+        t_max = _mm256_blendv_ps(t_max, t, valid);
+        hit_triangle = _mm256_castps_si256(
+            _mm256_blendv_ps(_mm256_castsi256_ps(hit_triangle), _mm256_castsi256_ps(id), valid));
+        hit_slot = _mm256_castps_si256(_mm256_blendv_ps(
+            _mm256_castsi256_ps(hit_slot), _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(4 * b + lane))),
+            valid));
+        hit = true;
+      }
+    }
+    return hit;
+  };
+
+  // A block against one ray, its four triangles at once (as intersect_mesh_bvh).
+  alignas(32) float ray_t_max[kPacketSize];
+  alignas(32) uint32_t ray_triangle[kPacketSize], ray_slot[kPacketSize];
+  auto block_one_ray = [&](uint32_t b, int i) {
+    const Triangle4& block = m.blocks[b];
+    const WatertightRay4 wray(p, i, kx, ky, kz, sx[i], sy[i], sz[i]);
+    __m128 t;
+    int mask = intersect_block(block, wray, _mm_set1_ps(p.t_min[i]), _mm_set1_ps(ray_t_max[i]), t);
+    if (!mask) return false;
+    alignas(16) float ts[4];
+    _mm_store_ps(ts, t);
+    bool hit = false;
+    for (; mask; mask &= mask - 1) {
+      const int lane = __builtin_ctz(mask);
+      const uint32_t id = block.id[lane];
+      if (ts[lane] < ray_t_max[i] || (ts[lane] == ray_t_max[i] && id < ray_triangle[i])) {
+        ray_t_max[i] = ts[lane];
+        ray_triangle[i] = id;
+        ray_slot[i] = 4 * b + static_cast<uint32_t>(lane);
+        hit = true;
+      }
+    }
+    return hit;
+  };
+
+  // `mask`: for a leaf, the rays whose own box test passed.
+  struct Entry { uint32_t child, count; float t; int mask; };
   Entry stack[kTraversalStack];
   int top = 0;
-  const __m256 widen = _mm256_set1_ps(1.0f + 4.0f * 0x1p-23f);
-  const __m256 zero = _mm256_setzero_ps();
   // As in traverse_closest_leaves: the nearest child is visited next without
   // a trip through the stack.
-  Entry e{0, 0, all};
+  Entry e{0, 0, -INFINITY, 0};
   for (;;) {
     if (e.count > 0) {
-      for (uint32_t b = e.child; b < e.child + e.count; ++b) {
-        const Triangle4& block = m.blocks[b];
-        for (int lane = 0; lane < 4; ++lane) {
-          // One triangle against every ray of the packet.
-          __m256 x[3], y[3], z[3];
-          for (int v = 0; v < 3; ++v) {
-            z[v] = _mm256_sub_ps(_mm256_set1_ps(block.v[v][kz][lane]), origin[kz]);
-            x[v] = _mm256_add_ps(_mm256_sub_ps(_mm256_set1_ps(block.v[v][kx][lane]), origin[kx]),
-                                 _mm256_mul_ps(shear_x, z[v]));
-            y[v] = _mm256_add_ps(_mm256_sub_ps(_mm256_set1_ps(block.v[v][ky][lane]), origin[ky]),
-                                 _mm256_mul_ps(shear_y, z[v]));
-          }
-          const __m256 e0 = _mm256_sub_ps(_mm256_mul_ps(x[1], y[2]), _mm256_mul_ps(y[1], x[2]));
-          const __m256 e1 = _mm256_sub_ps(_mm256_mul_ps(x[2], y[0]), _mm256_mul_ps(y[2], x[0]));
-          const __m256 e2 = _mm256_sub_ps(_mm256_mul_ps(x[0], y[1]), _mm256_mul_ps(y[0], x[1]));
-          const __m256 any_neg = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_LT_OQ),
-                                                           _mm256_cmp_ps(e1, zero, _CMP_LT_OQ)),
-                                              _mm256_cmp_ps(e2, zero, _CMP_LT_OQ));
-          const __m256 any_pos = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_GT_OQ),
-                                                           _mm256_cmp_ps(e1, zero, _CMP_GT_OQ)),
-                                              _mm256_cmp_ps(e2, zero, _CMP_GT_OQ));
-          const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
-          const __m256 t_scaled = _mm256_mul_ps(
-              _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])), _mm256_mul_ps(e2, z[2])),
-              shear_z);
-          const __m256 t = _mm256_div_ps(t_scaled, det);
-          __m256 valid = _mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
-          valid = _mm256_and_ps(valid, _mm256_and_ps(_mm256_cmp_ps(t, t_min, _CMP_GT_OQ),
-                                                     _mm256_cmp_ps(t, t_max, _CMP_LE_OQ)));
-          // Nearer, or as near with a lower triangle index (as intersect_mesh_bvh).
-          const __m256i id = _mm256_set1_epi32(static_cast<int>(block.id[lane]));
-          valid = _mm256_and_ps(valid, _mm256_or_ps(_mm256_cmp_ps(t, t_max, _CMP_LT_OQ),
-                                                    _mm256_castsi256_ps(_mm256_cmpgt_epi32(hit_triangle, id))));
-          if (_mm256_movemask_ps(valid) & e.mask) {
-            valid = _mm256_and_ps(valid, _mm256_castsi256_ps(_mm256_set_epi32(
-                                             e.mask & 128 ? -1 : 0, e.mask & 64 ? -1 : 0, e.mask & 32 ? -1 : 0,
-                                             e.mask & 16 ? -1 : 0, e.mask & 8 ? -1 : 0, e.mask & 4 ? -1 : 0,
-                                             e.mask & 2 ? -1 : 0, e.mask & 1 ? -1 : 0)));
-            t_max = _mm256_blendv_ps(t_max, t, valid);
-            hit_triangle = _mm256_castps_si256(
-                _mm256_blendv_ps(_mm256_castsi256_ps(hit_triangle), _mm256_castsi256_ps(id), valid));
-          }
+      bool hit = false;
+      if (__builtin_popcount(e.mask) >= kLeafRaysForSimd) {
+        for (uint32_t b = e.child; b < e.child + e.count; ++b) hit |= block_all_rays(b, e.mask);
+      } else {
+        _mm256_store_ps(ray_t_max, t_max);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(ray_triangle), hit_triangle);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(ray_slot), hit_slot);
+        for (int rays = e.mask; rays; rays &= rays - 1)
+          for (uint32_t b = e.child; b < e.child + e.count; ++b) hit |= block_one_ray(b, __builtin_ctz(rays));
+        if (hit) {
+          t_max = _mm256_load_ps(ray_t_max);
+          hit_triangle = _mm256_load_si256(reinterpret_cast<const __m256i*>(ray_triangle));
+          hit_slot = _mm256_load_si256(reinterpret_cast<const __m256i*>(ray_slot));
         }
       }
-      if (top == 0) break;
-      e = stack[--top];
-      continue;
-    }
-    const BvhNode& n = m.bvh.nodes[e.child];
-    // Each child box against every ray; children are pushed far to near by
-    // the entry distance of the packet's first ray that hits them.
-    Entry hits[kBvhWidth];
-    float near[kBvhWidth];
-    int k = 0;
-    for (int c = 0; c < kBvhWidth; ++c) {
-      if (n.count[c] == 0 && n.child[c] == 0 && n.bounds[0][c] > n.bounds[1][c]) continue;  // empty slot
-      __m256 lo_t = box_t_min, hi_t = t_max;
+      if (hit) node_t_max = farthest();
+    } else {
+      const BvhNode& n = m.bvh.nodes[e.child];
+      __m256 lo_t = node_t_min, hi_t = _mm256_set1_ps(node_t_max);
       for (int a = 0; a < 3; ++a) {
-        const __m256 near_plane = _mm256_set1_ps(n.bounds[2 * a + (negative[a] ? 1 : 0)][c]);
-        const __m256 far_plane = _mm256_set1_ps(n.bounds[2 * a + (negative[a] ? 0 : 1)][c]);
-        lo_t = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near_plane, origin[a]), inv_dir[a]), lo_t);
-        hi_t = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, origin[a]), inv_dir[a]), hi_t);
+        const __m256 lo = _mm256_load_ps(n.bounds[2 * a]), hi = _mm256_load_ps(n.bounds[2 * a + 1]);
+        const __m256 near_plane = _mm256_blendv_ps(lo, hi, near_row_mask[a]);
+        const __m256 far_plane = _mm256_blendv_ps(hi, lo, near_row_mask[a]);
+        const __m256 dn = _mm256_sub_ps(near_plane, near_origin[a]), df = _mm256_sub_ps(far_plane, far_origin[a]);
+        const __m256 na = _mm256_mul_ps(dn, inv_a[a]), nb = _mm256_mul_ps(dn, inv_b[a]);
+        const __m256 fa = _mm256_mul_ps(df, inv_a[a]), fb = _mm256_mul_ps(df, inv_b[a]);
+        // 0 * inf (a ray parallel to the slab, starting on it) bounds nothing.
+        const __m256 t0 = _mm256_blendv_ps(_mm256_min_ps(na, nb), minus_inf, _mm256_cmp_ps(na, nb, _CMP_UNORD_Q));
+        const __m256 t1 = _mm256_blendv_ps(_mm256_max_ps(fa, fb), plus_inf, _mm256_cmp_ps(fa, fb, _CMP_UNORD_Q));
+        lo_t = _mm256_max_ps(t0, lo_t);
+        hi_t = _mm256_min_ps(t1, hi_t);
       }
       hi_t = _mm256_mul_ps(hi_t, widen);  // as hit_children does
-      const int mask = _mm256_movemask_ps(_mm256_cmp_ps(lo_t, hi_t, _CMP_LE_OQ)) & e.mask;
-      if (!mask) continue;
-      alignas(32) float lo[kPacketSize];
-      _mm256_store_ps(lo, lo_t);
-      const float d = lo[__builtin_ctz(mask)];
-      int j = k++;
-      while (j > 0 && near[j - 1] < d) {
-        hits[j] = hits[j - 1];
-        near[j] = near[j - 1];
-        --j;
+      int mask = _mm256_movemask_ps(_mm256_cmp_ps(lo_t, hi_t, _CMP_LE_OQ));
+      if (mask) {
+        alignas(32) float t[kBvhWidth];
+        _mm256_store_ps(t, lo_t);
+        const int first = top;
+        while (mask) {
+          const int i = __builtin_ctz(mask);
+          mask &= mask - 1;
+          const Entry h{n.child[i], n.count[i], t[i], n.count[i] ? rays_hitting(n, i) : 0};
+          if (h.count && !h.mask) continue;
+          if (h.count) {  // leaf blocks: on their way while the others are ordered
+            const char* block = reinterpret_cast<const char*>(&m.blocks[h.child]);
+            for (uint32_t line = 0; line < h.count * sizeof(Triangle4); line += 64) _mm_prefetch(block + line, _MM_HINT_T0);
+          }
+          int j = top++;  // sorted far to near
+          while (j > first && stack[j - 1].t < h.t) {
+            stack[j] = stack[j - 1];
+            --j;
+          }
+          stack[j] = h;
+        }
+        if (top > first) {
+          e = stack[--top];
+          continue;
+        }
       }
-      hits[j] = {n.child[c], n.count[c], mask};
-      near[j] = d;
     }
-    if (k > 0) {
-      for (int i = 0; i + 1 < k; ++i) stack[top++] = hits[i];
-      e = hits[k - 1];
-      continue;
+    // Next: the nearest pushed entry still in front of some ray's hit.
+    bool more = false;
+    while (top > 0 && !more) {
+      e = stack[--top];
+      more = e.t <= node_t_max * (1.0f + 0x1p-20f);
     }
-    if (top == 0) break;
-    e = stack[--top];
+    if (!more) break;
   }
   _mm256_store_ps(p.t_max, t_max);
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(p.triangle), hit_triangle);
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(p.slot), hit_slot);
   for (int i = 0; i < kPacketSize; ++i)
     if (p.triangle[i] == kNoHitId) p.triangle[i] = kNoTriangle;
   return true;

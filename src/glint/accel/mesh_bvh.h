@@ -51,6 +51,7 @@ struct alignas(32) RayPacket {
   float inv_direction[3][kPacketSize];  // from the double direction, as RaySlabs has it
   float t_min[kPacketSize], t_max[kPacketSize];  // t_max shrinks to each hit
   uint32_t triangle[kPacketSize];               // out: the hit, or kNoTriangle
+  uint32_t slot[kPacketSize];                   // out: where in MeshBvh::blocks (block * 4 + lane)
   int count = 0;                                // rays in use
 };
 inline constexpr uint32_t kNoTriangle = ~0u;
