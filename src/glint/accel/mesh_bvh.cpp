@@ -201,8 +201,8 @@ namespace {
 
 // A leaf reached by this many rays of a packet is tested triangle by
 // triangle against all of them at once; by fewer, ray by ray (four triangles
-// at once): measured on the terrain of bench/, where a leaf covers about two
-// pixels.
+// at once). On the 1M terrain of bench/ (a leaf covers about two pixels)
+// thresholds 2 to 5 measured alike, and ray by ray always 5% slower.
 constexpr int kLeafRaysForSimd = 4;
 
 int dominant_axis(float x, float y, float z) {
