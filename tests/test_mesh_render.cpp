@@ -82,6 +82,24 @@ TEST_F(MeshScene, SmoothNormalsAreInterpolatedAndFlatUsesTheFacet) {
   EXPECT_NEAR(fp.shading_normal.z, 1.0, 1e-12);
 }
 
+TEST_F(MeshScene, VertexNormalsOnlyForFilesShadedSmoothly) {
+  // Only flat: no vertex normals are kept (nor computed), and the image is
+  // the one rendered with them loaded for another, smooth, object far away.
+  const Scene flat_only = load(R"({"type": "mesh", "file": "quad.obj", "smooth": false})");
+  EXPECT_TRUE(flat_only.meshes[0].corner_normals.empty());
+  const Scene both = load(R"({"type": "mesh", "file": "quad.obj", "smooth": false},
+      {"type": "mesh", "file": "quad.obj", "transform": {"translate": [100, 0, 0]}})");
+  EXPECT_EQ(both.meshes[0].corner_normals.size(), 6u);
+  EXPECT_EQ(load(R"({"type": "mesh", "file": "quad.obj"})").meshes[0].corner_normals.size(), 6u);  // smooth by default
+  const Image a = render_image(flat_only, *build_accelerator(flat_only));
+  const Image b = render_image(both, *build_accelerator(both));
+  EXPECT_EQ(a.rgb, b.rgb);
+  // A scene built in code that asks for smooth shading without normals gets facets.
+  Scene asked = flat_only;
+  asked.objects[0].smooth = true;
+  EXPECT_EQ(render_image(asked, *build_accelerator(asked)).rgb, a.rgb);
+}
+
 TEST_F(MeshScene, NormalsFollowTheInverseTransposeOfANonUniformScale) {
   const Scene scene = load(R"({"type": "mesh", "file": "quad.obj", "transform": {"scale": [4, 1, 1]}})");
   const auto accel = build_accelerator(scene);

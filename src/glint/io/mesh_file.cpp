@@ -255,7 +255,7 @@ inline Vec3d cross(const Vec3d& a, const Vec3d& b) {
 inline double dot(const Vec3d& a, const Vec3d& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline double length(const Vec3d& a) { return std::sqrt(dot(a, a)); }
 
-MeshFile finish(RawMesh raw, const std::string& file) {
+MeshFile finish(RawMesh raw, const std::string& file, bool vertex_normals) {
   const size_t vertex_count = raw.positions.size();
   size_t triangle_count = raw.indices.size() / 3;
   if (triangle_count == 0) {
@@ -314,8 +314,8 @@ MeshFile finish(RawMesh raw, const std::string& file) {
     n = {n.x / len, n.y / len, n.z / len};
     return true;
   };
-  bool need_computed = !raw.has_normals;
-  if (!need_computed) {
+  bool need_computed = vertex_normals && !raw.has_normals;
+  if (vertex_normals && !need_computed) {
     Vec3d n;
     for (size_t t = 0; t < triangle_count && !need_computed; ++t)
       if (keep[t])
@@ -367,13 +367,15 @@ MeshFile finish(RawMesh raw, const std::string& file) {
 
   const size_t kept = triangle_count - dropped;
   out.indices.reserve(3 * kept);
-  out.corner_normals.reserve(3 * kept);
+  if (vertex_normals) out.corner_normals.reserve(3 * kept);
   out.triangle_material.reserve(kept);
   for (size_t t = 0; t < triangle_count; ++t) {
     if (!keep[t]) continue;
     for (int k = 0; k < 3; ++k) {
       const uint32_t v = raw.indices[3 * t + k];
       out.indices.push_back(remap[v]);
+      if (raw.has_uvs) out.corner_uvs.push_back(raw.uvs[3 * t + k]);
+      if (!vertex_normals) continue;
       Vec3d n;
       if (!file_normal(3 * t + k, n)) {
         n = vertex_normal[v];
@@ -382,7 +384,6 @@ MeshFile finish(RawMesh raw, const std::string& file) {
         n = len > 0 && std::isfinite(len) ? Vec3d{n.x / len, n.y / len, n.z / len} : face_normal[t];
       }
       out.corner_normals.push_back({static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)});
-      if (raw.has_uvs) out.corner_uvs.push_back(raw.uvs[3 * t + k]);
     }
     out.triangle_material.push_back(t < raw.triangle_material.size() ? raw.triangle_material[t] : -1);
   }
@@ -735,7 +736,8 @@ std::string utf16_to_utf8(std::string_view bytes, bool big_endian) {
   return out;
 }
 
-MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes, size_t budget) {
+MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes, size_t budget,
+                  bool vertex_normals) {
   std::string converted;
   std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (text.size() >= 2 && (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF")) {
@@ -955,7 +957,7 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
                              plural(r.missing_textures.size(), "texture file", "texture files") +
                              " not found (defaults used): " + name_list(r.missing_textures));
   }
-  return finish(std::move(raw), file);
+  return finish(std::move(raw), file, vertex_normals);
 }
 
 // ---------------------------------------------------------------------------
@@ -1518,7 +1520,7 @@ std::string assimp_error(const Assimp::Importer& importer) {
   return e.empty() ? "unknown error" : e;
 }
 
-MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes, size_t budget) {
+MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes, size_t budget, bool vertex_normals) {
   const std::string_view data(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   const PlyHeader header = read_ply_header(data, file);
   const PlyLayout layout = ply_layout(header, file);
@@ -1546,7 +1548,7 @@ MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes, siz
       return Error(SourceLocation{file, 0, 0}, "vertex " + std::to_string(v) + " has a non-finite coordinate");
     };
   }
-  return finish(std::move(raw), file);
+  return finish(std::move(raw), file, vertex_normals);
 }
 
 // The glTF's JSON: all of a .gltf, or a .glb's first chunk, which must be JSON.
@@ -1906,7 +1908,7 @@ json::Document parse_gltf_json(std::string text, bool binary, const std::string&
 }
 
 MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes,
-                   bool binary, size_t budget) {
+                   bool binary, size_t budget, bool vertex_normals) {
   const std::string json_text = gltf_json_text(bytes, binary, file);
   {
     const json::Document doc = parse_gltf_json(json_text, binary, file);
@@ -1929,12 +1931,12 @@ MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vec
     if (m >= 0 && raw.materials[m].name == AI_DEFAULT_MATERIAL_NAME) m = -1;
   for (Material& m : raw.materials)
     if (m.name == AI_DEFAULT_MATERIAL_NAME) m.name.clear();  // dropped when unused
-  return finish(std::move(raw), file);
+  return finish(std::move(raw), file, vertex_normals);
 }
 
 }  // namespace
 
-MeshFile load_mesh_file(const fs::path& path, size_t memory_budget) {
+MeshFile load_mesh_file(const fs::path& path, size_t memory_budget, bool vertex_normals) {
   const std::string file = path.string();
   try {
     std::error_code ec;
@@ -1954,9 +1956,9 @@ MeshFile load_mesh_file(const fs::path& path, size_t memory_budget) {
     }
     std::vector<unsigned char> bytes = read_file(path);
     if (bytes.empty()) fail(file, "empty file");
-    if (ext == ".obj") return load_obj(path, file, std::move(bytes), memory_budget);
-    if (ext == ".ply") return load_ply(file, std::move(bytes), memory_budget);
-    return load_gltf(path, file, bytes, ext == ".glb", memory_budget);
+    if (ext == ".obj") return load_obj(path, file, std::move(bytes), memory_budget, vertex_normals);
+    if (ext == ".ply") return load_ply(file, std::move(bytes), memory_budget, vertex_normals);
+    return load_gltf(path, file, bytes, ext == ".glb", memory_budget, vertex_normals);
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {

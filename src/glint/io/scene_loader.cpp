@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <map>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 #include "glint/io/json.h"
@@ -635,6 +636,18 @@ class SceneReader {
 
   void read_objects(const Value& list) {
     expect_array(list, "objects");
+    // Vertex normals are computed only for mesh files some object shades
+    // smoothly (the default); a malformed entry is reported by read_object.
+    for (size_t i = 0; i < list.size(); ++i) {
+      const Value o = list[i];
+      if (!o.is_object()) continue;
+      const auto type = o.find("type"), file = o.find("file"), smooth = o.find("smooth");
+      if (!type || !type->is_string() || type->as_string() != "mesh" || !file || !file->is_string()) continue;
+      if (smooth && smooth->is_bool() && !smooth->as_bool()) continue;
+      std::filesystem::path path(std::string(file->as_string()));
+      if (path.is_relative()) path = base_dir_ / path;
+      smooth_mesh_files_.insert(file_key(path));
+    }
     scene_.objects.reserve(list.size());
     for (size_t i = 0; i < list.size(); ++i) {
       collect([&] { read_object(list[i], index("objects", i)); });
@@ -652,7 +665,7 @@ class SceneReader {
     const std::string cache_key = file_key(file);
     if (auto it = mesh_index_.find(cache_key); it != mesh_index_.end()) return it->second;
     if (!std::filesystem::exists(file, ec)) fail(v, path, "mesh file " + quote_text(file.string()) + " not found");
-    MeshFile loaded = load_mesh_file(file, memory_budget_);
+    MeshFile loaded = load_mesh_file(file, memory_budget_, smooth_mesh_files_.count(cache_key) > 0);
     for (std::string& w : loaded.warnings) scene_.warnings.push_back(std::move(w));
     // The file's textures join the scene's; one that cannot be read is a
     // warning and its material keeps its color (the contract: defaults used).
@@ -945,6 +958,7 @@ class SceneReader {
   std::filesystem::path base_dir_;
   std::vector<Error>* errors_ = nullptr;
   std::map<std::string, uint32_t> mesh_index_;  // canonical path -> Scene::meshes
+  std::set<std::string> smooth_mesh_files_;      // canonical paths some object shades smoothly
   std::map<std::string, uint32_t> texture_image_index_;  // canonical path -> Scene::texture_images
   size_t memory_budget_;
   size_t mesh_vertices_ = 0, mesh_triangles_ = 0;  // of every mesh file loaded

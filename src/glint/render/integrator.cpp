@@ -58,23 +58,21 @@ SurfacePoint evaluate_geometry(const Scene& scene, const Ray& ray, const Hit& hi
       const Vec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0;
       const Vec3 p_obj = t.v0 + hit.b1 * e1 + hit.b2 * e2;
       Vec3 ng = cross(e1, e2);
-      const Vec3f* corner = &mesh.corner_normals[3 * static_cast<size_t>(hit.primitive)];
-      Vec3 n0 = to_vec3(corner[0]), n1 = to_vec3(corner[1]), n2 = to_vec3(corner[2]);
-      if (object.transform == kNoTransform) {
-        sp.p = p_obj;
-      } else {
-        // Vertex normals through the inverse transpose, each normalized before
-        // interpolation (the contract's order).
-        const Transform& xf = scene.transforms[object.transform];
-        sp.p = xf.point(p_obj);
-        ng = xf.normal(ng);
-        n0 = normalize(xf.normal(n0));
-        n1 = normalize(xf.normal(n1));
-        n2 = normalize(xf.normal(n2));
-      }
-      sp.geometric_normal = normalize(ng);
+      const Transform* xf = object.transform == kNoTransform ? nullptr : &scene.transforms[object.transform];
+      sp.p = xf ? xf->point(p_obj) : p_obj;
+      sp.geometric_normal = normalize(xf ? xf->normal(ng) : ng);
       sp.shading_normal = sp.geometric_normal;
-      if (object.smooth) {
+      // Meshes only shaded flat have no vertex normals (scene loader).
+      if (object.smooth && mesh.corner_normals.size() == mesh.indices.size()) {
+        const Vec3f* corner = &mesh.corner_normals[3 * static_cast<size_t>(hit.primitive)];
+        Vec3 n0 = to_vec3(corner[0]), n1 = to_vec3(corner[1]), n2 = to_vec3(corner[2]);
+        if (xf) {
+          // Vertex normals through the inverse transpose, each normalized
+          // before interpolation (the contract's order).
+          n0 = normalize(xf->normal(n0));
+          n1 = normalize(xf->normal(n1));
+          n2 = normalize(xf->normal(n2));
+        }
         const Vec3 n = (1.0 - hit.b1 - hit.b2) * n0 + hit.b1 * n1 + hit.b2 * n2;
         const double len = length(n);
         if (len > 0.0 && std::isfinite(len)) sp.shading_normal = n / len;
