@@ -415,7 +415,10 @@ int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
     passes = PassImages(pass_list, r.width, r.height);
   }
 
+  using Clock = std::chrono::steady_clock;
+  const auto build_start = Clock::now();
   const auto accel = build_accelerator(scene, AcceleratorOptions{args.threads.value_or(0), backend_named(args.accel)});
+  const auto build_end = Clock::now();
   RenderOptions options;
   options.threads = args.threads.value_or(0);
   options.cancel = &g_interrupted;
@@ -440,20 +443,26 @@ int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
                       std::to_string(tiles.done.size()) + " tiles in " + args.output_path +
                       "; finish with the same command and --resume"};
   }
+  const auto write_start = Clock::now();
   write_outputs(image, passes, args.output_path, args.passes_layered, light);
+  const auto write_end = Clock::now();
   std::error_code ignored;
   std::filesystem::remove(resume_path, ignored);  // finished: any resume file is stale
 
   if (!args.quiet) {
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+    const double total = seconds(start, Clock::now());
     const RayStats& rays = stats.rays;
+    // "load": from the start to the accelerator build (reading the scene and
+    // its meshes; for later animation frames, moving the scene to the frame).
     std::fprintf(stderr,
-                 "glint: %s: %dx%d, %d spp, %d thread%s, %s: render %.3f s (total %.3f s); rays: %s camera, "
-                 "%s shadow, %s reflection, %s refraction; %.2f Mrays/s\n",
+                 "glint: %s: %dx%d, %d spp, %d thread%s, %s: render %.3f s (total %.3f s: load %.3f, build %.3f, "
+                 "write %.3f); rays: %s camera, %s shadow, %s reflection, %s refraction; %.2f Mrays/s\n",
                  args.output_path.c_str(), r.width, r.height, r.samples_per_pixel, stats.threads,
                  stats.threads == 1 ? "" : "s",
                  args.accel.c_str(),
-                 stats.seconds, total, format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
+                 stats.seconds, total, seconds(start, build_start), seconds(build_start, build_end),
+                 seconds(write_start, write_end), format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
                  format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
                  stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
     if (r.adaptive)
