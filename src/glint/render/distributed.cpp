@@ -201,6 +201,39 @@ void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, boo
   work.wake.wait_for(lock, pause, [&] { return !work.finished.empty() || work.error; });
 }
 
+// How many items a rank keeps queued or in work: at least `least`, more when
+// items go fast, so that its workers stay busy for a few round trips to rank
+// 0. Measured on the 2-core machine (showcase, 2 ranks x 1 thread): a request
+// took 2.6 ms on average to be answered, up to 20 ms (rank 0's main thread
+// shares a core with its worker and polls every 0.25-2 ms), while a run of
+// background tiles takes 0.1 ms each: with a fixed 8 tiles queued, rank 1's
+// worker waited for tiles 7-17% of the render.
+class QueueDepth {
+ public:
+  QueueDepth(int least, int most) : least_(least), most_(std::max(least, most)) {}
+  void finished(Clock::time_point when) {
+    recent_.push_back(when);
+    if (recent_.size() > kWindow) recent_.pop_front();
+  }
+  void answered(double seconds) { round_trip_ = round_trip_ == 0 ? seconds : 0.8 * round_trip_ + 0.2 * seconds; }
+  int target() const {
+    if (least_ == most_ || recent_.size() < kWindow / 4) return least_;
+    const double span = std::chrono::duration<double>(recent_.back() - recent_.front()).count();
+    if (span <= 0) return most_;
+    const double per_second = static_cast<double>(recent_.size() - 1) / span;  // all workers together
+    const double cover = std::clamp(4 * round_trip_, 0.010, 0.100);             // seconds of work queued
+    return static_cast<int>(std::clamp(std::ceil(per_second * cover), static_cast<double>(least_),
+                                       static_cast<double>(most_)));
+  }
+  int most() const { return most_; }
+
+ private:
+  static constexpr size_t kWindow = 32;
+  int least_, most_;
+  std::deque<Clock::time_point> recent_;  // when the last items finished
+  double round_trip_ = 0;                 // seconds, smoothed
+};
+
 struct Traffic {
   uint64_t bytes = 0;
   std::vector<int> items_by_rank;
@@ -212,7 +245,7 @@ struct Traffic {
 // there is no more work. Watches the other ranks meanwhile: one that holds
 // items (or that rank 0 waits for at the end) and sends nothing for
 // watch.timeout seconds ends the job.
-void coordinate(LocalWork& work, int count, int depth, const Results& results, const Watch& watch,
+void coordinate(LocalWork& work, int count, const QueueDepth& depth, const Results& results, const Watch& watch,
                 Traffic& traffic) {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
@@ -240,7 +273,7 @@ void coordinate(LocalWork& work, int count, int depth, const Results& results, c
       int number = 0;  // how many items a request wants; the item a result is of
       if (buffer.size() >= sizeof(int)) std::memcpy(&number, buffer.data(), sizeof(int));
       if (status.MPI_TAG == kRequest) {
-        std::vector<int> items(std::clamp(number, 1, depth), kNoMore);
+        std::vector<int> items(std::clamp(number, 1, depth.most()), kNoMore);
         for (int& item : items)
           if (next < count) held[from].push_back(item = next++);
         if (items.back() == kNoMore && !told[from]) told[from] = 1, ++ranks_told;  // that rank asks no more
@@ -260,7 +293,9 @@ void coordinate(LocalWork& work, int count, int depth, const Results& results, c
     {
       std::lock_guard lock(work.m);
       if (work.error) abort_job(0, what_of(work.error));
-      while (static_cast<int>(work.queue.size()) + work.busy < depth && next < count) work.queue.push_back(next++);
+      // Its own workers' queue is refilled whenever one finishes: no round trip.
+      while (static_cast<int>(work.queue.size()) + work.busy < depth.target() && next < count)
+        work.queue.push_back(next++);
       if (next >= count) work.closed = true;
       work.ready.notify_all();
       traffic.items_by_rank[0] += static_cast<int>(work.finished.size());
@@ -296,7 +331,7 @@ void coordinate(LocalWork& work, int count, int depth, const Results& results, c
 // asking rank 0 for more, and reports each finished item (with its result).
 // While it holds items it sends rank 0 a heartbeat when it has sent nothing
 // for a while; and it gives up on rank 0 when an answer takes watch.timeout.
-void follow(LocalWork& work, int depth, const Results& results, const Watch& watch, Traffic& traffic) {
+void follow(LocalWork& work, QueueDepth depth, const Results& results, const Watch& watch, Traffic& traffic) {
   const int rank = world_rank();
   Outbox outbox;
   bool exhausted = false, awaiting = false;
@@ -316,6 +351,7 @@ void follow(LocalWork& work, int depth, const Results& results, const Watch& wat
       idle = work.queue.empty() && work.busy == 0;
     }
     for (int item : finished) {
+      depth.finished(Clock::now());
       std::vector<char> buffer(sizeof(int));
       std::memcpy(buffer.data(), &item, sizeof(int));
       if (results.pack) results.pack(item, buffer);
@@ -323,8 +359,8 @@ void follow(LocalWork& work, int depth, const Results& results, const Watch& wat
       outbox.send(std::move(buffer), 0, kResult);
       maybe_fail(rank, ++finished_total);
     }
-    if (!exhausted && !awaiting && outstanding < depth) {
-      want = depth - outstanding;
+    if (!exhausted && !awaiting && outstanding < depth.target()) {
+      want = depth.target() - outstanding;
       traffic.bytes += sizeof(int);
       outbox.send(int_bytes({want}), 0, kRequest);
       awaiting = true;
@@ -347,6 +383,7 @@ void follow(LocalWork& work, int depth, const Results& results, const Watch& wat
         idle = false;
         awaiting = false;
         heard = true;
+        depth.answered(std::chrono::duration<double>(Clock::now() - asked).count());
       } else if (watch.overdue(asked, Clock::now())) {
         abort_job(0, "no answer for " + watch.seconds() + " s to rank " + std::to_string(rank) +
                          "'s request for work; a hung rank? (--rank-timeout)");
@@ -363,7 +400,8 @@ void follow(LocalWork& work, int depth, const Results& results, const Watch& wat
   }
 }
 
-void run(LocalWork& work, int count, int depth, const Results& results, const Watch& watch, Traffic& traffic) {
+void run(LocalWork& work, int count, const QueueDepth& depth, const Results& results, const Watch& watch,
+         Traffic& traffic) {
   if (world_rank() == 0) coordinate(work, count, depth, results, watch, traffic);
   else follow(work, depth, results, watch, traffic);
   // No rank starts the next run (the next frame) while rank 0 may still be in
@@ -479,10 +517,12 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
   });
   Traffic traffic;
   // Enough queued per rank that no worker waits for a round trip to rank 0
-  // (up to two polling pauses, a few tiles' time: threads + 2 left rank 1's
-  // one worker idle 20% of the time on the showcase), few enough that a slow
-  // rank holds the frame's end back by only a few of its tiles' time.
-  run(work, tiles_x * tiles_y, 4 * threads + 4, results, Watch{rank_timeout, "tiles", {}}, traffic);
+  // (threads + 2 left rank 1's one worker idle 20% of the time on the
+  // showcase; QueueDepth adds more when tiles go fast), few enough that a slow
+  // rank holds the frame's end back by only a few of its tiles' time (at most
+  // 0.1 s of its work).
+  run(work, tiles_x * tiles_y, QueueDepth(4 * threads + 4, 64 * threads + 64), results,
+      Watch{rank_timeout, "tiles", {}}, traffic);
   renderer.join();
 
   uint64_t mine[5] = {rays.camera, rays.shadow, rays.reflection, rays.refraction, traffic.bytes}, sum[5] = {};
@@ -530,7 +570,7 @@ void run_items(int count, const std::function<void(int item)>& render, double ra
   });
   Traffic traffic;
   // One frame at a time: it uses all the rank's threads.
-  run(work, count, 1, Results{}, Watch{rank_timeout, "frames", name}, traffic);
+  run(work, count, QueueDepth(1, 1), Results{}, Watch{rank_timeout, "frames", name}, traffic);
   renderer.join();
 }
 
