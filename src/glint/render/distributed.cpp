@@ -192,9 +192,11 @@ void maybe_fail(int rank, int finished) {
 
 // Waits until a local item finishes (workers wake us), or up to `pause` so
 // that messages from other ranks are polled. The pause doubles while no
-// message comes (250 us to 2 ms): polling takes little CPU from the workers,
-// and each rank's queue of tiles covers a round trip to rank 0.
-constexpr auto kMinPause = std::chrono::microseconds(250), kMaxPause = std::chrono::microseconds(2000);
+// message comes (1 ms to 4 ms): each poll takes the core from a worker, and
+// QueueDepth keeps enough tiles queued to cover the round trips. (With 0.25
+// to 2 ms the main threads used twice the CPU, 0.02-0.03 s per rank in a
+// 0.6 s showcase render, for no faster render.)
+constexpr auto kMinPause = std::chrono::microseconds(1000), kMaxPause = std::chrono::microseconds(4000);
 void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, bool heard) {
   pause = heard ? kMinPause : std::min(pause * 2, kMaxPause);
   std::unique_lock lock(work.m);
@@ -205,7 +207,7 @@ void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, boo
 // items go fast, so that its workers stay busy for a few round trips to rank
 // 0. Measured on the 2-core machine (showcase, 2 ranks x 1 thread): a request
 // took 2.6 ms on average to be answered, up to 20 ms (rank 0's main thread
-// shares a core with its worker and polls every 0.25-2 ms), while a run of
+// shares a core with its worker and then polled every 0.25-2 ms), while a run of
 // background tiles takes 0.1 ms each: with a fixed 8 tiles queued, rank 1's
 // worker waited for tiles 7-17% of the render.
 class QueueDepth {
