@@ -57,6 +57,7 @@ struct RenderArgs {
   std::optional<double> adaptive_threshold;
   std::optional<std::string> frames;  // "N" or "A-B"
   bool skip_existing = false;
+  std::optional<double> rank_timeout;  // under MPI
 };
 
 glint::AccelBackend backend_named(const std::string& name) {
@@ -575,6 +576,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
   } catch (const std::exception& e) {
     error = e.what();
   }
+  const double rank_timeout = args.rank_timeout.value_or(mpi::kDefaultRankTimeout);
   const std::vector<int> failed = mpi::failed_ranks(error.empty());
   if (!failed.empty()) {
     // Rank 0 speaks for all when it failed too (the same file, the same error).
@@ -599,16 +601,19 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
   mpi::broadcast(todo);
 
   if (static_cast<int>(todo.size()) > session.size) {
-    mpi::run_items(static_cast<int>(todo.size()), [&](int item) {
-      const auto& [frame, output] = plan[todo[item]];
-      RenderArgs frame_args = args;
-      frame_args.output_path = output;
-      try {
-        render_frame(frame_args, scene_at_frame(*scene, frame), frame, std::chrono::steady_clock::now());
-      } catch (const Interrupted& e) {
-        throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
-      }
-    });
+    mpi::run_items(
+        static_cast<int>(todo.size()),
+        [&](int item) {
+          const auto& [frame, output] = plan[todo[item]];
+          RenderArgs frame_args = args;
+          frame_args.output_path = output;
+          try {
+            render_frame(frame_args, scene_at_frame(*scene, frame), frame, std::chrono::steady_clock::now());
+          } catch (const Interrupted& e) {
+            throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
+          }
+        },
+        rank_timeout, [&](int item) { return std::to_string(plan[todo[item]].first); });
     return 0;
   }
   if (args.passes || args.passes_layered || scene->render.adaptive) {
@@ -630,7 +635,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
     const Scene& frame_scene = scene->animation.frames > 0 ? (moved = scene_at_frame(*scene, frame)) : *scene;
     const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
     mpi::DistributedStats stats;
-    const Image image = mpi::render_image(frame_scene, *accel, threads, 16, &stats);
+    const Image image = mpi::render_image(frame_scene, *accel, threads, 16, &stats, rank_timeout);
     if (session.rank != 0) continue;
     write_image(image, output, light_options(args));
     if (args.quiet) continue;
@@ -645,6 +650,14 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
                  split.c_str(), static_cast<unsigned long long>(stats.bytes_sent),
                  static_cast<unsigned long long>(stats.pixel_bytes),
                  stats.seconds > 0 ? stats.rays.total() / stats.seconds / 1e6 : 0.0);
+    std::string cpu;
+    for (size_t k = 0; k < stats.cpu_by_rank.size(); ++k) {
+      char text[96];
+      std::snprintf(text, sizeof text, "%srank %zu %.3f s (MPI thread %.3f s)", k ? ", " : "", k, stats.cpu_by_rank[k],
+                    stats.main_cpu_by_rank[k]);
+      cpu += text;
+    }
+    std::fprintf(stderr, "glint: CPU in the render: %s\n", cpu.c_str());
   }
   return 0;
 }
@@ -674,6 +687,10 @@ int main(int argc, char** argv) {
   render->add_flag("--resume", args.resume, "finish an interrupted render from OUT.glint-resume");
   render->add_option("--frames", args.frames, "animation frames to render: N or A-B (default: all)");
   render->add_flag("--skip-existing", args.skip_existing, "do not render frames whose output exists (and is complete)");
+  render->add_option("--rank-timeout", args.rank_timeout,
+                     "under MPI: end the job when a rank holding work sends nothing for this many seconds "
+                     "(a hung rank; default 60)")
+      ->check(number_in(0.1, 1e6));
   render->add_option("--exposure", args.exposure, "8-bit outputs: multiply linear values by 2^EV first")
       ->check(number_in(-64, 64));
   render->add_option("--tonemap", args.tonemap, "8-bit outputs: clamp (default), reinhard or aces")

@@ -29,12 +29,14 @@ for _ in $(seq "$runs"); do
     r=$(sed -n 's/.*render \([0-9.]*\) s.*/\1/p' "$out/log" | tail -1)
     [ -z "${wall[$i]:-}" ] || { w=$(min "$w" "${wall[$i]}"); r=$(min "$r" "${render[$i]}"); c=$(min "$c" "${cpu[$i]}"); }
     wall[$i]=$w render[$i]=$r cpu[$i]=$c
-    [ "$i" -eq 2 ] && grep -o "tiles by rank.*of pixels)" "$out/log"
+    [ "$i" -eq 2 ] && { grep -o "tiles by rank.*of pixels)" "$out/log"; grep -o "CPU in the render.*" "$out/log"; }
   done
 done
 cmp "$out/a.exr" "$out/c.exr" && echo "2-rank image == 1-process image"
 for i in "${!configs[@]}"; do
   printf "| %s | %.3f s | %.3f s | %.2f s |\n" "${configs[$i]%%|*}" "${wall[$i]}" "${render[$i]}" "${cpu[$i]}"
 done
-printf "2 ranks x 1 thread / 1 rank x 2 threads: wall %.3f, render part %.3f\n" \
+printf "2 ranks x 1 thread / 1 rank x 2 threads (both under mpirun): wall %.3f, render part %.3f\n" \
   "$(echo "${wall[2]} / ${wall[1]}" | bc -l)" "$(echo "${render[2]} / ${render[1]}" | bc -l)"
+printf "2 ranks x 1 thread / 1 process x 2 threads without mpirun: wall %.3f, render part %.3f\n" \
+  "$(echo "${wall[2]} / ${wall[0]}" | bc -l)" "$(echo "${render[2]} / ${render[0]}" | bc -l)"

@@ -19,11 +19,10 @@
 namespace glint {
 namespace {
 
-TEST(TileStream, AnyTileOrderGivesTheImageOfRenderImage) {
-  Scene scene = load_scene(std::string(GLINT_SOURCE_DIR) + "/scenes/showcase.json");
+// Shuffled tiles on 3 threads; the image must be render_image's, bit for bit.
+void check_any_order(Scene scene) {
   scene.render.width = 83;  // partial tiles on both edges
   scene.render.height = 37;
-  scene.render.samples_per_pixel = 2;
   const auto accel = build_accelerator(scene);
   const Image whole = render_image(scene, *accel);
 
@@ -48,7 +47,32 @@ TEST(TileStream, AnyTileOrderGivesTheImageOfRenderImage) {
   EXPECT_EQ(image.rgb, whole.rgb);
   EXPECT_EQ(done.size(), static_cast<size_t>(tiles));
   EXPECT_EQ(std::set<int>(done.begin(), done.end()).size(), static_cast<size_t>(tiles)) << "a tile twice";
-  EXPECT_EQ(rays.camera, 83u * 37u * 2u);
+  EXPECT_EQ(rays.camera, 83u * 37u * static_cast<unsigned>(scene.render.samples_per_pixel));
+}
+
+Scene showcase() { return load_scene(std::string(GLINT_SOURCE_DIR) + "/scenes/showcase.json"); }
+
+TEST(TileStream, AnyTileOrderGivesTheImageOfRenderImage) {
+  Scene scene = showcase();
+  scene.render.samples_per_pixel = 2;
+  check_any_order(scene);
+}
+
+TEST(TileStream, OneSampleTracesCameraPacketsAsRenderImageDoes) {
+  Scene scene = showcase();
+  scene.render.samples_per_pixel = 1;
+  check_any_order(scene);
+}
+
+TEST(TileStream, PixelFiltersGiveTheImageOfRenderImage) {
+  Scene scene = showcase();
+  scene.render.samples_per_pixel = 4;
+  scene.render.pixel_filter.type = FilterType::gaussian;
+  scene.render.pixel_filter.radius = kGaussianRadius;
+  check_any_order(scene);
+  scene.render.pixel_filter.type = FilterType::mitchell;
+  scene.render.pixel_filter.radius = kMitchellRadius;
+  check_any_order(scene);
 }
 
 }  // namespace

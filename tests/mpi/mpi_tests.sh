@@ -72,6 +72,18 @@ case $test_name in
     [ "$skipped" -eq "$written" ] || fail "skipped $skipped frames, $written were written"
     run "$glint" render anim12.json -o one_%02d.pfm -q || fail "single render failed"
     for f in $(seq -w 0 11); do same f_$f.pfm one_$f.pfm; done ;;
+  rank-hangs)  # rank 1 stops (SIGSTOP) after its first tile: rank 0 names it and ends the job
+    start=$(date +%s)
+    GLINT_TEST_HANG_RANK=1 timeout 20 "${mpirun[@]}" -x GLINT_TEST_HANG_RANK "$glint" render "$showcase" -o hang.exr \
+      --threads 1 --rank-timeout 2 2> log
+    rc=$?
+    cat log
+    [ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "exit $rc (124: timed out)"
+    [ $(( $(date +%s) - start )) -le 10 ] || fail "took more than 10 s to fail"
+    grep -Eq "^error: rank 1: no answer for 2 s \(holding tiles [0-9]" log || fail "the message does not name rank 1 and its tiles"
+    [ ! -e hang.exr ] || fail "an image was written"
+    pgrep -f "render $showcase -o hang.exr" && fail "a rank outlived the job"
+    true ;;
   *) fail "unknown test $test_name" ;;
 esac
 echo "ok: $test_name"

@@ -13,6 +13,7 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <time.h>
 
 #include "glint/error.h"
 #include "glint/render/tile_stream.h"
@@ -21,8 +22,9 @@ namespace glint::mpi {
 
 namespace {
 
-enum Tag : int { kRequest = 101, kItems = 102, kResult = 103 };
+enum Tag : int { kRequest = 101, kItems = 102, kResult = 103, kHeartbeat = 104 };
 constexpr int kNoMore = -1;
+using Clock = std::chrono::steady_clock;
 
 int world_rank() {
   int rank = 0;
@@ -39,6 +41,66 @@ void check(int rc, const char* call) {
   MPI_Error_string(rc, text, &length);
   abort_job(world_rank(), std::string(call) + " failed: " + std::string(text, length));
 }
+
+// Waits for a nonblocking call to complete, sleeping between tests. Open MPI's
+// blocking calls (MPI_Send, MPI_Barrier, collectives) busy-poll until done,
+// taking the core from this rank's workers, or from another rank or another
+// program sharing it.
+void wait_calmly(MPI_Request& request, const char* call) {
+  auto pause = std::chrono::microseconds(20);
+  for (;;) {
+    int done = 0;
+    check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), call);
+    if (done) return;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::microseconds(1000));
+  }
+}
+
+std::vector<char> int_bytes(const std::vector<int>& values) {
+  std::vector<char> bytes(values.size() * sizeof(int));
+  if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
+  return bytes;
+}
+
+// Messages sent without waiting for the receiver. A blocking MPI_Send of a
+// tile's pixels returns only once rank 0 has taken them (Open MPI's
+// shared-memory transport gets the sender's buffer back then), and until
+// then it spins: measured, a quarter of rank 1's core went to that while
+// rank 0's main thread slept between polls. Every message here is bytes
+// (MPI_BYTE on both sides).
+class Outbox {
+ public:
+  void send(std::vector<char> bytes, int dest, int tag) {
+    pending_.push_back(Pending{std::move(bytes), MPI_REQUEST_NULL});
+    Pending& p = pending_.back();
+    check(MPI_Isend(p.bytes.data(), static_cast<int>(p.bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD, &p.request),
+          "MPI_Isend");
+    last_send_ = Clock::now();
+  }
+  // Frees the sends that completed.
+  void poll() {
+    for (Pending& p : pending_) {
+      int done = 0;
+      check(MPI_Test(&p.request, &done, MPI_STATUS_IGNORE), "MPI_Test");
+    }
+    std::erase_if(pending_, [](const Pending& p) { return p.request == MPI_REQUEST_NULL; });
+  }
+  // Until every send completed (the receivers took them), without spinning.
+  void drain() {
+    for (Pending& p : pending_) wait_calmly(p.request, "MPI_Isend");
+    pending_.clear();
+  }
+  Clock::time_point last_send() const { return last_send_; }
+
+ private:
+  struct Pending {
+    std::vector<char> bytes;  // must not move until the send completes (a deque keeps it in place)
+    MPI_Request request;
+  };
+  std::deque<Pending> pending_;
+  Clock::time_point last_send_ = Clock::now();
+};
 
 // One rank's share of the work: items from rank 0, taken by worker threads.
 struct LocalWork {
@@ -75,11 +137,36 @@ struct LocalWork {
   }
 };
 
-// What a finished item sends to rank 0, and what rank 0 does with it; no
-// `pack`: items send nothing (frames, written by the rank that renders them).
+// What a finished item carries to rank 0 besides its number, and what rank 0
+// does with it; no `pack`: the number alone (frames, written by the rank
+// that renders them).
 struct Results {
-  std::function<std::vector<char>(int item)> pack;
-  std::function<void(const std::vector<char>&)> unpack;
+  std::function<void(int item, std::vector<char>& bytes)> pack;  // appends
+  std::function<void(int item, const char* bytes, size_t size)> unpack;
+};
+
+// How the run watches for hung ranks: see render_image.
+struct Watch {
+  double timeout = kDefaultRankTimeout;  // seconds
+  const char* noun = "tiles";
+  std::function<std::string(int item)> name;  // of an item in an error message
+  std::chrono::duration<double> heartbeat() const { return std::chrono::duration<double>(std::min(1.0, timeout / 4)); }
+  bool overdue(Clock::time_point since, Clock::time_point now) const {
+    return std::chrono::duration<double>(now - since).count() > timeout;
+  }
+  std::string seconds() const {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", timeout);
+    return text;
+  }
+  std::string holding(const std::vector<int>& items) const {
+    std::string text = std::string("holding ") + noun;
+    constexpr size_t kShown = 8;
+    for (size_t i = 0; i < std::min(items.size(), kShown); ++i)
+      text += (i ? ", " : " ") + (name ? name(items[i]) : std::to_string(items[i]));
+    if (items.size() > kShown) text += ", ... (" + std::to_string(items.size()) + " in all)";
+    return text;
+  }
 };
 
 std::string what_of(std::exception_ptr e) {
@@ -92,23 +179,62 @@ std::string what_of(std::exception_ptr e) {
   }
 }
 
-// Test hook (GLINT_TEST_DIE_RANK=R): rank R kills itself after its first
-// finished item, to check how the job fails when a rank dies.
-void maybe_die(int rank, int finished) {
+// Test hooks: rank R kills itself (GLINT_TEST_DIE_RANK=R) or stops, as a hung
+// process would (GLINT_TEST_HANG_RANK=R: SIGSTOP), after its first finished
+// item, to check how the job fails.
+void maybe_fail(int rank, int finished) {
   static const char* die = std::getenv("GLINT_TEST_DIE_RANK");
-  if (die && finished > 0 && std::atoi(die) == rank) raise(SIGKILL);
+  static const char* hang = std::getenv("GLINT_TEST_HANG_RANK");
+  if (finished <= 0) return;
+  if (die && std::atoi(die) == rank) raise(SIGKILL);
+  if (hang && std::atoi(hang) == rank) raise(SIGSTOP);
 }
 
 // Waits until a local item finishes (workers wake us), or up to `pause` so
 // that messages from other ranks are polled. The pause doubles while no
-// message comes (250 us to 2 ms): polling takes little CPU from the workers,
-// and each rank's queue of tiles covers a round trip to rank 0.
-constexpr auto kMinPause = std::chrono::microseconds(250), kMaxPause = std::chrono::microseconds(2000);
+// message comes (1 ms to 4 ms): each poll takes the core from a worker, and
+// QueueDepth keeps enough tiles queued to cover the round trips. (With 0.25
+// to 2 ms the main threads used twice the CPU, 0.02-0.03 s per rank in a
+// 0.6 s showcase render, for no faster render.)
+constexpr auto kMinPause = std::chrono::microseconds(1000), kMaxPause = std::chrono::microseconds(4000);
 void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, bool heard) {
   pause = heard ? kMinPause : std::min(pause * 2, kMaxPause);
   std::unique_lock lock(work.m);
   work.wake.wait_for(lock, pause, [&] { return !work.finished.empty() || work.error; });
 }
+
+// How many items a rank keeps queued or in work: at least `least`, more when
+// items go fast, so that its workers stay busy for a few round trips to rank
+// 0. Measured on the 2-core machine (showcase, 2 ranks x 1 thread): a request
+// took 2.6 ms on average to be answered, up to 20 ms (rank 0's main thread
+// shares a core with its worker and then polled every 0.25-2 ms), while a run of
+// background tiles takes 0.1 ms each: with a fixed 8 tiles queued, rank 1's
+// worker waited for tiles 7-17% of the render.
+class QueueDepth {
+ public:
+  QueueDepth(int least, int most) : least_(least), most_(std::max(least, most)) {}
+  void finished(Clock::time_point when) {
+    recent_.push_back(when);
+    if (recent_.size() > kWindow) recent_.pop_front();
+  }
+  void answered(double seconds) { round_trip_ = round_trip_ == 0 ? seconds : 0.8 * round_trip_ + 0.2 * seconds; }
+  int target() const {
+    if (least_ == most_ || recent_.size() < kWindow / 4) return least_;
+    const double span = std::chrono::duration<double>(recent_.back() - recent_.front()).count();
+    if (span <= 0) return most_;
+    const double per_second = static_cast<double>(recent_.size() - 1) / span;  // all workers together
+    const double cover = std::clamp(4 * round_trip_, 0.010, 0.100);             // seconds of work queued
+    return static_cast<int>(std::clamp(std::ceil(per_second * cover), static_cast<double>(least_),
+                                       static_cast<double>(most_)));
+  }
+  int most() const { return most_; }
+
+ private:
+  static constexpr size_t kWindow = 32;
+  int least_, most_;
+  std::deque<Clock::time_point> recent_;  // when the last items finished
+  double round_trip_ = 0;                 // seconds, smoothed
+};
 
 struct Traffic {
   uint64_t bytes = 0;
@@ -116,70 +242,103 @@ struct Traffic {
 };
 
 // Rank 0's main thread: hands out items 0..count-1 (to its own queue and on
-// request to other ranks), takes results, until every item is done and every
-// other rank has been told there is no more work.
-void coordinate(LocalWork& work, int count, int depth, const Results& results, Traffic& traffic) {
+// request to other ranks), takes every rank's finished items (and their
+// results), until every item is done and every other rank has been told
+// there is no more work. Watches the other ranks meanwhile: one that holds
+// items (or that rank 0 waits for at the end) and sends nothing for
+// watch.timeout seconds ends the job.
+void coordinate(LocalWork& work, int count, const QueueDepth& depth, const Results& results, const Watch& watch,
+                Traffic& traffic) {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   traffic.items_by_rank.assign(size, 0);
+  std::vector<std::vector<int>> held(size);  // handed to each rank, not reported finished
+  std::vector<Clock::time_point> silent_since(size, Clock::now());
+  std::vector<char> told(size, 0);  // told "no more"
+  Outbox outbox;
   int next = 0, done = 0, ranks_told = 0;
   auto pause = kMinPause;
   for (;;) {
     bool heard = false;  // a message from another rank
     int flag = 0;
     MPI_Status status;
-    for (check(MPI_Iprobe(MPI_ANY_SOURCE, kRequest, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe"); flag;
-         check(MPI_Iprobe(MPI_ANY_SOURCE, kRequest, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe")) {
-      int want = 0;
-      check(MPI_Recv(&want, 1, MPI_INT, status.MPI_SOURCE, kRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Recv");
-      std::vector<int> items(std::max(1, want), kNoMore);
-      for (int& item : items)
-        if (next < count) item = next++;
-      if (items.back() == kNoMore) ++ranks_told;  // that rank asks no more
-      check(MPI_Send(items.data(), static_cast<int>(items.size()), MPI_INT, status.MPI_SOURCE, kItems, MPI_COMM_WORLD),
-            "MPI_Send");
-      traffic.bytes += items.size() * sizeof(int);
-      heard = true;
-    }
-    for (check(MPI_Iprobe(MPI_ANY_SOURCE, kResult, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe"); flag;
-         check(MPI_Iprobe(MPI_ANY_SOURCE, kResult, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe")) {
+    for (check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe"); flag;
+         check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe")) {
+      const int from = status.MPI_SOURCE;
       int bytes = 0;
       MPI_Get_count(&status, MPI_BYTE, &bytes);
-      std::vector<char> buffer(bytes);
-      check(MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kResult, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+      std::vector<char> buffer(static_cast<size_t>(std::max(0, bytes)));
+      check(MPI_Recv(buffer.data(), bytes, MPI_BYTE, from, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
             "MPI_Recv");
-      results.unpack(buffer);
-      ++done;
-      ++traffic.items_by_rank[status.MPI_SOURCE];
       heard = true;
+      silent_since[from] = Clock::now();
+      int number = 0;  // how many items a request wants; the item a result is of
+      if (buffer.size() >= sizeof(int)) std::memcpy(&number, buffer.data(), sizeof(int));
+      if (status.MPI_TAG == kRequest) {
+        std::vector<int> items(std::clamp(number, 1, depth.most()), kNoMore);
+        for (int& item : items)
+          if (next < count) held[from].push_back(item = next++);
+        if (items.back() == kNoMore && !told[from]) told[from] = 1, ++ranks_told;  // that rank asks no more
+        std::vector<char> reply = int_bytes(items);
+        traffic.bytes += reply.size();
+        outbox.send(std::move(reply), from, kItems);
+      } else if (status.MPI_TAG == kResult) {
+        auto it = std::find(held[from].begin(), held[from].end(), number);
+        if (it == held[from].end()) continue;  // not one of its items: cannot happen
+        held[from].erase(it);
+        if (results.unpack) results.unpack(number, buffer.data() + sizeof(int), buffer.size() - sizeof(int));
+        ++done;
+        ++traffic.items_by_rank[from];
+      }  // kHeartbeat: alive, holding items
     }
     bool idle = false;
     {
       std::lock_guard lock(work.m);
       if (work.error) abort_job(0, what_of(work.error));
-      while (static_cast<int>(work.queue.size()) + work.busy < depth && next < count) work.queue.push_back(next++);
+      // Its own workers' queue is refilled whenever one finishes: no round trip.
+      while (static_cast<int>(work.queue.size()) + work.busy < depth.target() && next < count)
+        work.queue.push_back(next++);
       if (next >= count) work.closed = true;
       work.ready.notify_all();
       traffic.items_by_rank[0] += static_cast<int>(work.finished.size());
       done += static_cast<int>(work.finished.size());
-      maybe_die(0, static_cast<int>(work.finished.size()));
+      maybe_fail(0, static_cast<int>(work.finished.size()));
       work.finished.clear();
       idle = work.closed && work.queue.empty() && work.busy == 0;
     }
-    // Frames (no results) are done when this rank's own are; other ranks
-    // finish theirs on their own.
-    const bool all_done = results.pack ? done == count : idle;
-    if (all_done && idle && ranks_told == size - 1) return;
+    outbox.poll();
+    if (done == count && idle && ranks_told == size - 1) {
+      outbox.drain();  // the last "no more" answers
+      return;
+    }
+    const auto now = Clock::now();
+    for (int r = 1; r < size; ++r) {
+      // Rank 0 waits for rank r: it holds items, or all is handed out and
+      // rank 0 has nothing left to do but tell it so.
+      const bool waiting = !held[r].empty() || (idle && !told[r]);
+      if (!waiting) {
+        silent_since[r] = now;
+      } else if (watch.overdue(silent_since[r], now)) {
+        const std::string holding =
+            held[r].empty() ? "holding no " + std::string(watch.noun) + "; rank 0 waits to tell it all is done"
+                            : watch.holding(held[r]);
+        abort_job(r, "no answer for " + watch.seconds() + " s (" + holding + "); a hung rank? (--rank-timeout)");
+      }
+    }
     pause_until_progress(work, pause, heard);
   }
 }
 
 // Every other rank's main thread: keeps `depth` items queued or in work,
-// asking rank 0 for more, and sends each finished item's result.
-void follow(LocalWork& work, int depth, const Results& results, Traffic& traffic) {
+// asking rank 0 for more, and reports each finished item (with its result).
+// While it holds items it sends rank 0 a heartbeat when it has sent nothing
+// for a while; and it gives up on rank 0 when an answer takes watch.timeout.
+void follow(LocalWork& work, QueueDepth depth, const Results& results, const Watch& watch, Traffic& traffic) {
   const int rank = world_rank();
+  Outbox outbox;
   bool exhausted = false, awaiting = false;
   int want = 0, finished_total = 0;
+  auto asked = Clock::now();
   auto pause = kMinPause;
   for (;;) {
     bool heard = false;  // the reply from rank 0
@@ -194,50 +353,64 @@ void follow(LocalWork& work, int depth, const Results& results, Traffic& traffic
       idle = work.queue.empty() && work.busy == 0;
     }
     for (int item : finished) {
-      if (results.pack) {
-        const std::vector<char> buffer = results.pack(item);
-        check(MPI_Send(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, kResult, MPI_COMM_WORLD),
-              "MPI_Send");
-        traffic.bytes += buffer.size();
-      }
-      maybe_die(rank, ++finished_total);
+      depth.finished(Clock::now());
+      std::vector<char> buffer(sizeof(int));
+      std::memcpy(buffer.data(), &item, sizeof(int));
+      if (results.pack) results.pack(item, buffer);
+      traffic.bytes += buffer.size();
+      outbox.send(std::move(buffer), 0, kResult);
+      maybe_fail(rank, ++finished_total);
     }
-    if (!exhausted && !awaiting && outstanding < depth) {
-      want = depth - outstanding;
-      check(MPI_Send(&want, 1, MPI_INT, 0, kRequest, MPI_COMM_WORLD), "MPI_Send");
+    if (!exhausted && !awaiting && outstanding < depth.target()) {
+      want = depth.target() - outstanding;
       traffic.bytes += sizeof(int);
+      outbox.send(int_bytes({want}), 0, kRequest);
       awaiting = true;
+      asked = Clock::now();
     }
     if (awaiting) {
       int flag = 0;
       check(MPI_Iprobe(0, kItems, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE), "MPI_Iprobe");
       if (flag) {
-        std::vector<int> items(std::max(1, want));
-        check(MPI_Recv(items.data(), static_cast<int>(items.size()), MPI_INT, 0, kItems, MPI_COMM_WORLD,
-                       MPI_STATUS_IGNORE),
+        std::vector<int> items(static_cast<size_t>(std::max(1, want)));
+        check(MPI_Recv(items.data(), static_cast<int>(items.size() * sizeof(int)), MPI_BYTE, 0, kItems,
+                       MPI_COMM_WORLD, MPI_STATUS_IGNORE),
               "MPI_Recv");
         std::lock_guard lock(work.m);
         for (int item : items) {
           if (item == kNoMore) exhausted = work.closed = true;
-          else work.queue.push_back(item);
+          else work.queue.push_back(item), ++outstanding;
         }
         work.ready.notify_all();
         idle = false;
         awaiting = false;
         heard = true;
+        depth.answered(std::chrono::duration<double>(Clock::now() - asked).count());
+      } else if (watch.overdue(asked, Clock::now())) {
+        abort_job(0, "no answer for " + watch.seconds() + " s to rank " + std::to_string(rank) +
+                         "'s request for work; a hung rank? (--rank-timeout)");
       }
     }
-    if (exhausted && idle && finished.empty()) return;
+    if (outstanding > 0 && Clock::now() - outbox.last_send() >= watch.heartbeat())
+      outbox.send(int_bytes({0}), 0, kHeartbeat);
+    outbox.poll();
+    if (exhausted && idle && finished.empty()) {
+      outbox.drain();
+      return;
+    }
     pause_until_progress(work, pause, heard);
   }
 }
 
-void run(LocalWork& work, int count, int depth, const Results& results, Traffic& traffic) {
-  if (world_rank() == 0) coordinate(work, count, depth, results, traffic);
-  else follow(work, depth, results, traffic);
+void run(LocalWork& work, int count, const QueueDepth& depth, const Results& results, const Watch& watch,
+         Traffic& traffic) {
+  if (world_rank() == 0) coordinate(work, count, depth, results, watch, traffic);
+  else follow(work, depth, results, watch, traffic);
   // No rank starts the next run (the next frame) while rank 0 may still be in
   // this one: it would answer the next run's first request with "no more".
-  check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
+  MPI_Request barrier;
+  check(MPI_Ibarrier(MPI_COMM_WORLD, &barrier), "MPI_Ibarrier");
+  wait_calmly(barrier, "MPI_Ibarrier");
 }
 
 }  // namespace
@@ -272,7 +445,10 @@ std::vector<int> failed_ranks(bool ok) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   std::vector<int> all(size);
   int mine = ok ? 1 : 0;
-  check(MPI_Allgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  // Ranks load the scene at their own pace: the first to finish waits here.
+  MPI_Request request;
+  check(MPI_Iallgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD, &request), "MPI_Iallgather");
+  wait_calmly(request, "MPI_Iallgather");
   std::vector<int> failed;
   for (int r = 0; r < size; ++r)
     if (!all[r]) failed.push_back(r);
@@ -281,14 +457,26 @@ std::vector<int> failed_ranks(bool ok) {
 
 void broadcast(std::vector<int>& values) {
   int n = static_cast<int>(values.size());
-  check(MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  MPI_Request request;
+  check(MPI_Ibcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD, &request), "MPI_Ibcast");
+  wait_calmly(request, "MPI_Ibcast");
   values.resize(n);
-  check(MPI_Bcast(values.data(), n, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  check(MPI_Ibcast(values.data(), n, MPI_INT, 0, MPI_COMM_WORLD, &request), "MPI_Ibcast");
+  wait_calmly(request, "MPI_Ibcast");
 }
 
+namespace {
+double cpu_seconds(clockid_t clock) {
+  timespec t{};
+  clock_gettime(clock, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+}  // namespace
+
 Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size,
-                   DistributedStats* stats) {
+                   DistributedStats* stats, double rank_timeout) {
   const auto start = std::chrono::steady_clock::now();
+  const double process_cpu = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), main_cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
   const int w = scene.render.width, h = scene.render.height;
   const int tiles_x = (w + tile_size - 1) / tile_size, tiles_y = (h + tile_size - 1) / tile_size;
   Image image(w, h);
@@ -299,24 +487,21 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
     x1 = std::min(x0 + tile_size, w), y1 = std::min(y0 + tile_size, h);
   };
   Results results;
-  results.pack = [&](int t) {
+  results.pack = [&](int t, std::vector<char>& bytes) {
     int x0, y0, x1, y1;
     tile_rect(t, x0, y0, x1, y1);
-    const size_t row = static_cast<size_t>(x1 - x0) * 3 * sizeof(float);
-    std::vector<char> buffer(sizeof(int) + row * (y1 - y0));
-    std::memcpy(buffer.data(), &t, sizeof(int));
-    for (int y = y0; y < y1; ++y) std::memcpy(buffer.data() + sizeof(int) + row * (y - y0), image.pixel(x0, y), row);
-    return buffer;
+    const size_t row = static_cast<size_t>(x1 - x0) * 3 * sizeof(float), at = bytes.size();
+    bytes.resize(at + row * (y1 - y0));
+    for (int y = y0; y < y1; ++y) std::memcpy(bytes.data() + at + row * (y - y0), image.pixel(x0, y), row);
   };
   uint64_t pixel_bytes = 0;
-  results.unpack = [&](const std::vector<char>& buffer) {
-    pixel_bytes += buffer.size() - sizeof(int);
-    int t = 0;
-    std::memcpy(&t, buffer.data(), sizeof(int));
+  results.unpack = [&](int t, const char* bytes, size_t size) {
     int x0, y0, x1, y1;
     tile_rect(t, x0, y0, x1, y1);
     const size_t row = static_cast<size_t>(x1 - x0) * 3 * sizeof(float);
-    for (int y = y0; y < y1; ++y) std::memcpy(image.pixel(x0, y), buffer.data() + sizeof(int) + row * (y - y0), row);
+    if (size != row * (y1 - y0)) abort_job(0, "a tile of the wrong size arrived");  // cannot happen
+    pixel_bytes += size;
+    for (int y = y0; y < y1; ++y) std::memcpy(image.pixel(x0, y), bytes + row * (y - y0), row);
   };
 
   LocalWork work;
@@ -334,26 +519,45 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
   });
   Traffic traffic;
   // Enough queued per rank that no worker waits for a round trip to rank 0
-  // (up to two polling pauses, a few tiles' time: threads + 2 left rank 1's
-  // one worker idle 20% of the time on the showcase), few enough that a slow
-  // rank holds the frame's end back by only a few of its tiles' time.
-  run(work, tiles_x * tiles_y, 4 * threads + 4, results, traffic);
+  // (threads + 2 left rank 1's one worker idle 20% of the time on the
+  // showcase; QueueDepth adds more when tiles go fast), few enough that a slow
+  // rank holds the frame's end back by only a few of its tiles' time (at most
+  // 0.1 s of its work).
+  run(work, tiles_x * tiles_y, QueueDepth(4 * threads + 4, 64 * threads + 64), results,
+      Watch{rank_timeout, "tiles", {}}, traffic);
   renderer.join();
 
   uint64_t mine[5] = {rays.camera, rays.shadow, rays.reflection, rays.refraction, traffic.bytes}, sum[5] = {};
-  check(MPI_Reduce(mine, sum, 5, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD), "MPI_Reduce");
+  MPI_Request request;
+  check(MPI_Ireduce(mine, sum, 5, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD, &request), "MPI_Ireduce");
+  wait_calmly(request, "MPI_Ireduce");
+  // Each rank's CPU time in this render: the whole process, and of that its main thread's (MPI).
+  const double cpu[2] = {cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - process_cpu,
+                         cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - main_cpu};
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  std::vector<double> cpus(2 * static_cast<size_t>(size));
+  check(MPI_Igather(cpu, 2, MPI_DOUBLE, cpus.data(), 2, MPI_DOUBLE, 0, MPI_COMM_WORLD, &request), "MPI_Igather");
+  wait_calmly(request, "MPI_Igather");
   if (stats) {
     stats->rays = RayStats{sum[0], sum[1], sum[2], sum[3]};
     stats->bytes_sent = sum[4];
     stats->pixel_bytes = pixel_bytes;
     stats->tiles_by_rank = traffic.items_by_rank;
+    stats->cpu_by_rank.clear();
+    stats->main_cpu_by_rank.clear();
+    for (int r = 0; r < size; ++r) {
+      stats->cpu_by_rank.push_back(cpus[2 * r]);
+      stats->main_cpu_by_rank.push_back(cpus[2 * r + 1]);
+    }
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   if (world_rank() != 0) return Image();
   return image;
 }
 
-void run_items(int count, const std::function<void(int item)>& render) {
+void run_items(int count, const std::function<void(int item)>& render, double rank_timeout,
+               const std::function<std::string(int item)>& name) {
   LocalWork work;
   std::thread renderer([&] {
     for (int item = work.pop(); item != kNoMore; item = work.pop()) {
@@ -367,7 +571,8 @@ void run_items(int count, const std::function<void(int item)>& render) {
     }
   });
   Traffic traffic;
-  run(work, count, 1, Results{}, traffic);  // one frame at a time: it uses all the rank's threads
+  // One frame at a time: it uses all the rank's threads.
+  run(work, count, QueueDepth(1, 1), Results{}, Watch{rank_timeout, "frames", name}, traffic);
   renderer.join();
 }
 

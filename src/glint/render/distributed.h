@@ -42,23 +42,35 @@ std::vector<int> failed_ranks(bool ok);
 // Collective: rank 0's `values` on every rank.
 void broadcast(std::vector<int>& values);
 
+// Seconds a rank that holds work may stay silent before rank 0 takes it as
+// hung and ends the job (`--rank-timeout`). Ranks send a heartbeat at least
+// every second while they hold work, whatever a tile or frame takes.
+constexpr double kDefaultRankTimeout = 60;
+
 struct DistributedStats {
   RayStats rays;            // summed over ranks (rank 0)
   uint64_t bytes_sent = 0;  // by every rank to every other, summed (rank 0)
   uint64_t pixel_bytes = 0;  // of that, tile pixels received by rank 0 (the rest: tile numbers, requests)
   std::vector<int> tiles_by_rank;  // rank 0
+  // rank 0: each rank's CPU seconds in the render, and of that its main thread's (MPI)
+  std::vector<double> cpu_by_rank, main_cpu_by_rank;
   double seconds = 0;
 };
 
 // Collective. Renders `scene` over all ranks, tiles of `tile_size` handed
 // out by rank 0 on demand; finished tiles' pixels go to rank 0. Returns the
 // whole image on rank 0 (bit-identical to render_image), an empty one elsewhere.
+// A rank that holds tiles and sends nothing for `rank_timeout` seconds (a
+// stopped or hung process, a lost node) ends the job: rank 0 prints
+// `error: rank R: no answer for N s (holding tiles ...)` and aborts.
 Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size = 16,
-                   DistributedStats* stats = nullptr);
+                   DistributedStats* stats = nullptr, double rank_timeout = kDefaultRankTimeout);
 
 // Collective. Hands out items 0..count-1 on demand, one at a time per rank;
 // each rank calls render(item) for the items it gets (from another thread).
-// An exception from render aborts the job with the rank's error.
-void run_items(int count, const std::function<void(int item)>& render);
+// An exception from render aborts the job with the rank's error. A hung
+// rank ends the job as in render_image; `name` words an item in that error.
+void run_items(int count, const std::function<void(int item)>& render, double rank_timeout = kDefaultRankTimeout,
+               const std::function<std::string(int item)>& name = {});
 
 }  // namespace glint::mpi

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -153,7 +154,40 @@ PixelContext make_pixel_context(const Integrator& integrator, const Scene& scene
   return pc;
 }
 
+// The first pass over pixels [x0, x1) of row y. One center ray per pixel:
+// the first hits of up to 8 neighbouring pixels are traced as a packet (the
+// same hits as ray by ray), then each pixel is shaded as usual.
+void render_first_pass_row(const PixelContext& pc, const Accelerator& accel, int y, int x0, int x1,
+                           TraceContext& ctx, Image& image, PassImages* passes) {
+  const int spp = pc.scene.render.samples_per_pixel;
+  if (spp != 1) {
+    for (int x = x0; x < x1; ++x) render_pixel_into(pc, x, y, spp, ctx, image, passes);
+    return;
+  }
+  for (int x = x0; x < x1; x += kPacketSize) {
+    const int n = std::min(kPacketSize, x1 - x);
+    Ray rays[kPacketSize];
+    std::optional<Hit> hits[kPacketSize];
+    for (int i = 0; i < n; ++i) rays[i] = center_ray(pc, x + i, y);
+    accel.intersect_packet(rays, n, hits);
+    for (int i = 0; i < n; ++i) render_pixel_into(pc, x + i, y, 1, ctx, image, passes, &hits[i]);
+  }
+}
+
 }  // namespace
+
+struct TileRenderer::Context {
+  PixelContext pc;
+};
+
+TileRenderer::TileRenderer(const Integrator& integrator, const Scene& scene, const Accelerator& accel)
+    : accel_(accel), context_(std::make_unique<Context>(Context{make_pixel_context(integrator, scene)})) {}
+
+TileRenderer::~TileRenderer() = default;
+
+void TileRenderer::render(int x0, int y0, int x1, int y1, TraceContext& ctx, Image& image) const {
+  for (int y = y0; y < y1; ++y) render_first_pass_row(context_->pc, accel_, y, x0, x1, ctx, image, nullptr);
+}
 
 Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int y, TraceContext& ctx) {
   const PixelContext pc = make_pixel_context(integrator, scene);
@@ -296,25 +330,9 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
     });
   };
 
-  if (scene.render.samples_per_pixel == 1) {
-    // One center ray per pixel: the first hits of up to 8 neighbouring
-    // pixels are traced as a packet (the same hits as ray by ray), then each
-    // pixel is shaded as usual.
-    run_stage(1, [&](int y, int x0, int x1, TraceContext& ctx) {
-      for (int x = x0; x < x1; x += kPacketSize) {
-        const int n = std::min(kPacketSize, x1 - x);
-        Ray rays[kPacketSize];
-        std::optional<Hit> hits[kPacketSize];
-        for (int i = 0; i < n; ++i) rays[i] = center_ray(pc, x + i, y);
-        accel.intersect_packet(rays, n, hits);
-        for (int i = 0; i < n; ++i) render_pixel_into(pc, x + i, y, 1, ctx, image, passes, &hits[i]);
-      }
-    });
-  } else {
-    run_stage(1, [&](int y, int x0, int x1, TraceContext& ctx) {
-      for (int x = x0; x < x1; ++x) render_pixel_into(pc, x, y, scene.render.samples_per_pixel, ctx, image, passes);
-    });
-  }
+  run_stage(1, [&](int y, int x0, int x1, TraceContext& ctx) {
+    render_first_pass_row(pc, accel, y, x0, x1, ctx, image, passes);
+  });
   if (adaptive && !cancelled() && std::all_of(progress.done.begin(), progress.done.end(), [](uint8_t d) { return d >= 1; })) {
     // Decided once, from the complete first pass (kept in resume files), so
     // the choice never depends on which tiles happened to be finished.

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "glint/accel/accelerator.h"
@@ -73,6 +74,24 @@ std::vector<uint8_t> find_pixels_to_refine(const Image& image, double threshold)
 // Paints the pixels of tiles with no finished stage with the background color
 // (a tile whose refinement was interrupted keeps its first-pass pixels).
 void fill_unfinished_tiles(Image& image, const TileProgress& progress, const Color& background);
+
+// Renders whole tiles as render_tiles' first pass does, with one camera
+// frame and filter table for all of them and camera packets at 1 spp: the
+// same bits. For callers that hand out tiles themselves (render_tile_stream).
+class TileRenderer {
+ public:
+  TileRenderer(const Integrator& integrator, const Scene& scene, const Accelerator& accel);
+  ~TileRenderer();
+  TileRenderer(const TileRenderer&) = delete;
+  TileRenderer& operator=(const TileRenderer&) = delete;
+  // Pixels [x0, x1) x [y0, y1) of `image` (scene.render's size). Thread-safe.
+  void render(int x0, int y0, int x1, int y1, TraceContext& ctx, Image& image) const;
+
+ private:
+  struct Context;
+  const Accelerator& accel_;
+  std::unique_ptr<Context> context_;
+};
 
 // Color of one pixel (all its samples averaged): what render_image stores.
 Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int y, TraceContext& ctx);

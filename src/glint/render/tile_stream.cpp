@@ -14,22 +14,14 @@ RayStats render_tile_stream(const Scene& scene, const Accelerator& accel, Image&
   const int w = scene.render.width, h = scene.render.height, tile = stream.tile_size;
   const int tiles_x = (w + tile - 1) / tile;
   const Integrator integrator(scene, accel);
+  const TileRenderer renderer(integrator, scene, accel);  // what render_tiles does with a tile
   std::mutex stats_mutex;
   RayStats total;
   auto worker = [&] {
     TraceContext ctx{Rng(0), {}};
     for (int t = stream.next(); t >= 0; t = stream.next()) {
       const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
-      for (int y = y0; y < std::min(y0 + tile, h); ++y) {
-        for (int x = x0; x < std::min(x0 + tile, w); ++x) {
-          // render_pixel is what render_tiles stores: the same bits.
-          const Color c = render_pixel(integrator, scene, x, y, ctx);
-          float* px = image.pixel(x, y);
-          px[0] = static_cast<float>(c.x);
-          px[1] = static_cast<float>(c.y);
-          px[2] = static_cast<float>(c.z);
-        }
-      }
+      renderer.render(x0, y0, std::min(x0 + tile, w), std::min(y0 + tile, h), ctx, image);
       if (stream.done) stream.done(t);
     }
     std::lock_guard lock(stats_mutex);
