@@ -162,8 +162,10 @@ struct Watch {
   std::string holding(const std::vector<int>& items) const {
     std::string text = std::string("holding ") + noun;
     constexpr size_t kShown = 8;
-    for (size_t i = 0; i < std::min(items.size(), kShown); ++i)
-      text += (i ? ", " : " ") + (name ? name(items[i]) : std::to_string(items[i]));
+    for (size_t i = 0; i < std::min(items.size(), kShown); ++i) {
+      text += i ? ", " : " ";  // appended piece by piece: GCC 12 warns falsely on a + b here under LTO
+      text += name ? name(items[i]) : std::to_string(items[i]);
+    }
     if (items.size() > kShown) text += ", ... (" + std::to_string(items.size()) + " in all)";
     return text;
   }
