@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "glint/accel/huge_pages.h"
 #include "glint/math/bounds.h"
 #include "glint/math/ray.h"
 
@@ -71,7 +72,7 @@ struct BvhBuildOptions {
 };
 
 struct Bvh {
-  std::vector<BvhNode> nodes;       // nodes[0] is the root
+  HugePageVector<BvhNode> nodes;    // nodes[0] is the root
   std::vector<uint32_t> primitives;  // leaf ranges index this; values are caller's ids
   bool empty() const { return nodes.empty(); }
 };

@@ -23,7 +23,7 @@ static_assert(sizeof(Triangle4) == 160);
 
 struct MeshBvh {
   Bvh bvh;  // leaves: child = first block, count = number of blocks
-  std::vector<Triangle4> blocks;
+  HugePageVector<Triangle4> blocks;
   size_t memory_bytes() const {
     return bvh.nodes.capacity() * sizeof(BvhNode) + bvh.primitives.capacity() * sizeof(uint32_t) +
            blocks.capacity() * sizeof(Triangle4);
