@@ -83,15 +83,18 @@ class Builder {
     options_.block_size = 1 << block_shift_;
   }
 
-  uint32_t build(size_t begin, size_t end, int depth) {
+  // A node's primitives' box and the box of their centroids (twice the centers).
+  struct NodeBoxes {
+    Box4f bounds, centroids;
+  };
+
+  // `known`: the node's boxes when the parent's split already found them.
+  uint32_t build(size_t begin, size_t end, int depth, const NodeBoxes* known = nullptr) {
     const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
     out_.nodes.emplace_back();
-    Box4f bounds, centroids;
-    for (size_t i = begin; i < end; ++i) {
-      bounds.extend(refs_[i].lo4(), refs_[i].hi4());
-      const __m128 c = refs_[i].centroid2();
-      centroids.extend(c, c);
-    }
+    const NodeBoxes boxes = known ? *known : boxes_of(begin, end);
+    const Box4f& bounds = boxes.bounds;
+    const Box4f& centroids = boxes.centroids;
     out_.nodes[index].bounds = bounds.to_bounds();
     const size_t count = end - begin;
 
@@ -178,16 +181,42 @@ class Builder {
     if (best_axis < 0 || (count <= static_cast<size_t>(options_.max_leaf_size) && leaf_cost <= split_cost))
       return make_leaf(index, begin, end);
 
+    // The children's boxes come out of the split: their bounds from the bins
+    // (which hold exactly the primitives each side gets), their centroid
+    // boxes from the partition, so they need no pass of their own.
     const float lo = c_lo[best_axis], sc = scale[best_axis];
-    auto it = std::partition(refs_.begin() + begin, refs_.begin() + end, [&](const PrimRef& r) {
-      return bin_of(r.lo[best_axis] + r.hi[best_axis], lo, sc, bins) <= best_split;
-    });
-    mid = static_cast<size_t>(it - refs_.begin());
-    if (mid == begin || mid == end) mid = begin + count / 2;  // cannot happen, but never loop
-    return make_interior(index, begin, mid, end, depth);
+    auto is_left = [&](const PrimRef& r) { return bin_of(r.lo[best_axis] + r.hi[best_axis], lo, sc, bins) <= best_split; };
+    NodeBoxes left, right;
+    for (int b = 0; b < bins; ++b) (b <= best_split ? left : right).bounds.extend(bin_bounds[best_axis][b]);
+    size_t i = begin, j = end;
+    for (;;) {
+      while (i < j && is_left(refs_[i])) {
+        const __m128 c = refs_[i++].centroid2();
+        left.centroids.extend(c, c);
+      }
+      while (i < j && !is_left(refs_[j - 1])) {
+        const __m128 c = refs_[--j].centroid2();
+        right.centroids.extend(c, c);
+      }
+      if (i >= j) break;
+      std::swap(refs_[i], refs_[j - 1]);  // now a left one at i and a right one at j - 1
+    }
+    mid = i;
+    if (mid == begin || mid == end) return make_interior(index, begin, begin + count / 2, end, depth);  // cannot happen
+    return make_interior(index, begin, mid, end, depth, &left, &right);
   }
 
  private:
+  NodeBoxes boxes_of(size_t begin, size_t end) const {
+    NodeBoxes boxes;
+    for (size_t i = begin; i < end; ++i) {
+      boxes.bounds.extend(refs_[i].lo4(), refs_[i].hi4());
+      const __m128 c = refs_[i].centroid2();
+      boxes.centroids.extend(c, c);
+    }
+    return boxes;
+  }
+
   static int bin_of(float c, float lo, float scale, int bins) {
     return std::clamp(static_cast<int>((c - lo) * scale), 0, bins - 1);
   }
@@ -206,22 +235,23 @@ class Builder {
     return index;
   }
 
-  uint32_t make_interior(uint32_t index, size_t begin, size_t mid, size_t end, int depth) {
+  uint32_t make_interior(uint32_t index, size_t begin, size_t mid, size_t end, int depth,
+                         const NodeBoxes* left_boxes = nullptr, const NodeBoxes* right_boxes = nullptr) {
     uint32_t second;
     if (depth < parallel_depth_ && end - begin >= kParallelMinPrimitives) {
       // The two halves own disjoint ranges of refs_: build them at once into
       // trees of their own, then append both behind this node.
       BinaryTree left, right;
       auto left_done = std::async(std::launch::async, [&] {
-        Builder(refs_, options_, left, parallel_depth_).build(begin, mid, depth + 1);
+        Builder(refs_, options_, left, parallel_depth_).build(begin, mid, depth + 1, left_boxes);
       });
-      Builder(refs_, options_, right, parallel_depth_).build(mid, end, depth + 1);
+      Builder(refs_, options_, right, parallel_depth_).build(mid, end, depth + 1, right_boxes);
       left_done.get();
       append(left);  // the first child lands at index + 1
       second = append(right);
     } else {
-      build(begin, mid, depth + 1);  // the first child lands at index + 1
-      second = build(mid, end, depth + 1);
+      build(begin, mid, depth + 1, left_boxes);  // the first child lands at index + 1
+      second = build(mid, end, depth + 1, right_boxes);
     }
     BinaryNode& n = out_.nodes[index];  // re-fetch: the vector may have grown
     n.offset = second;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 namespace glint {
 
@@ -18,33 +19,51 @@ MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options) {
   out.bvh = build_bvh(bounds, block_options, mesh.bounds.center());
   bounds = {};
   // Leaves hold ranges of bvh.primitives: turn each into blocks of four.
-  for (BvhNode& node : out.bvh.nodes) {
+  // First where each leaf's blocks go (so the buffer is allocated once, at
+  // its size), then the blocks themselves, nodes split over the threads.
+  std::vector<uint32_t> first_block(out.bvh.nodes.size() * kBvhWidth);
+  uint32_t blocks = 0;
+  for (size_t node = 0; node < out.bvh.nodes.size(); ++node)
     for (int slot = 0; slot < kBvhWidth; ++slot) {
-      if (node.count[slot] == 0) continue;
-      const uint32_t first = node.child[slot], count = node.count[slot];
-      const uint32_t first_block = static_cast<uint32_t>(out.blocks.size());
-      for (uint32_t i = 0; i < count; i += 4) {
-        Triangle4 block;
-        for (int lane = 0; lane < 4; ++lane) {
-          const bool used = i + lane < count;
-          const uint32_t tri = used ? out.bvh.primitives[first + i + lane] : 0;
-          block.id[lane] = tri;
-          for (int v = 0; v < 3; ++v) {
-            const Vec3f& p = mesh.positions[mesh.indices[3 * static_cast<size_t>(tri) + v]];
-            const float nan = std::numeric_limits<float>::quiet_NaN();
-            block.v[v][0][lane] = used ? p.x : nan;
-            block.v[v][1][lane] = used ? p.y : nan;
-            block.v[v][2][lane] = used ? p.z : nan;
+      first_block[node * kBvhWidth + slot] = blocks;
+      blocks += (out.bvh.nodes[node].count[slot] + 3) / 4;
+    }
+  out.blocks.resize(blocks);
+  auto fill = [&](size_t node_begin, size_t node_end) {
+    for (size_t node = node_begin; node < node_end; ++node) {
+      BvhNode& n = out.bvh.nodes[node];
+      for (int slot = 0; slot < kBvhWidth; ++slot) {
+        if (n.count[slot] == 0) continue;
+        const uint32_t first = n.child[slot], count = n.count[slot];
+        uint32_t b = first_block[node * kBvhWidth + slot];
+        n.child[slot] = b;
+        n.count[slot] = (count + 3) / 4;
+        for (uint32_t i = 0; i < count; i += 4, ++b) {
+          Triangle4& block = out.blocks[b];
+          for (int lane = 0; lane < 4; ++lane) {
+            const bool used = i + lane < count;
+            const uint32_t tri = used ? out.bvh.primitives[first + i + lane] : 0;
+            block.id[lane] = tri;
+            for (int v = 0; v < 3; ++v) {
+              const Vec3f& p = mesh.positions[mesh.indices[3 * static_cast<size_t>(tri) + v]];
+              const float nan = std::numeric_limits<float>::quiet_NaN();
+              block.v[v][0][lane] = used ? p.x : nan;
+              block.v[v][1][lane] = used ? p.y : nan;
+              block.v[v][2][lane] = used ? p.z : nan;
+            }
           }
         }
-        out.blocks.push_back(block);
       }
-      node.child[slot] = first_block;
-      node.count[slot] = static_cast<uint32_t>(out.blocks.size()) - first_block;
     }
-  }
+  };
+  const size_t nodes = out.bvh.nodes.size();
+  const int threads = std::clamp(options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency()),
+                                 1, static_cast<int>(std::max<size_t>(1, nodes / 1024)));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(fill, nodes * t / threads, nodes * (t + 1) / threads);
+  fill(0, nodes / threads);
+  for (std::thread& t : pool) t.join();
   out.bvh.primitives = {};  // the blocks carry the triangle indices
-  out.blocks.shrink_to_fit();
   return out;
 }
 
