@@ -42,10 +42,11 @@ Triangle block_triangle(const Triangle4& block, int lane);
 bool occluded_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray);
 
 // Packets: up to kPacketSize coherent rays (camera rays of neighbouring
-// pixels) traced together, one SIMD lane per ray, through the same nodes.
-// Each box and each triangle is loaded once for the whole packet. The
-// arithmetic per ray is that of intersect_mesh_bvh, so the hits are the same
-// (up to which of two triangles at equal float distance wins).
+// pixels) traced together through the same nodes. Each node is tested once
+// for the whole packet (interval arithmetic over the rays), each leaf only
+// for the rays whose own box test passes it. The triangle arithmetic per ray
+// is that of intersect_mesh_bvh, and ties go to the lower triangle index in
+// both, so the hits are exactly the single rays' hits.
 struct alignas(32) RayPacket {
   float origin[3][kPacketSize], direction[3][kPacketSize];
   float inv_direction[3][kPacketSize];  // from the double direction, as RaySlabs has it
