@@ -242,8 +242,8 @@ bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
 
 // Any hit over leaves: stops at the first leaf for which `leaf(first, count,
 // ray)` is true.
-template <class LeafFn>
-bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf) {
+template <class LeafFn, class PrefetchFn = NoPrefetch>
+bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf, PrefetchFn&& prefetch = {}) {
   if (bvh.nodes.empty()) return false;
   const RaySlabs slabs(ray);
   struct Entry { uint32_t child, count; };
@@ -266,6 +266,7 @@ bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf) {
         while (mask) {
           last = __builtin_ctz(mask);
           mask &= mask - 1;
+          if (n.count[last]) prefetch(n.child[last], n.count[last]);
           if (mask) stack[top++] = {n.child[last], n.count[last]};
         }
         e = {n.child[last], n.count[last]};

@@ -126,6 +126,15 @@ inline int intersect_block(const Triangle4& b, const WatertightRay4& r, __m128 t
 
 float float_t_min(const Ray& ray) { return static_cast<float>(ray.t_min); }
 
+// Leaf blocks come from anywhere in memory (nodes near the root stay cached):
+// asked for as soon as a leaf is found hit, they are on their way while the
+// traversal decides what to visit first.
+void prefetch_blocks(const MeshBvh& m, uint32_t first, uint32_t count) {
+  const char* p = reinterpret_cast<const char*>(&m.blocks[first]);
+  const char* end = reinterpret_cast<const char*>(&m.blocks[first + count]);
+  for (; p < end; p += 64) _mm_prefetch(p, _MM_HINT_T0);
+}
+
 // The largest float below the ray's t_max: "t <= this" is "t < t_max" in float.
 float float_t_max_inclusive(const Ray& ray) { return float_toward_zero(clamp_to_float(ray.t_max)); }
 
@@ -172,12 +181,7 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
     }
     if (found) r.t_max = best;
     return found;
-  }, [&](uint32_t first, uint32_t count) {
-    // Leaf blocks come from anywhere in memory; nodes hit near the root stay cached.
-    const char* p = reinterpret_cast<const char*>(&m.blocks[first]);
-    const char* end = reinterpret_cast<const char*>(&m.blocks[first + count]);
-    for (; p < end; p += 64) _mm_prefetch(p, _MM_HINT_T0);
-  });
+  }, [&](uint32_t first, uint32_t count) { prefetch_blocks(m, first, count); });
   if (!found) return false;
   t_hit = best;
   triangle = m.blocks[best_block].id[best_lane];
@@ -194,7 +198,7 @@ bool occluded_mesh_bvh(const MeshBvh& m, const Ray& ray) {
       if (intersect_block(m.blocks[b], wray, t_min, t_max, t)) return true;
     }
     return false;
-  });
+  }, [&](uint32_t first, uint32_t count) { prefetch_blocks(m, first, count); });
 }
 
 RayPacket make_ray_packet(const Ray* rays, int count) {
