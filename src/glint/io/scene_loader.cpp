@@ -480,6 +480,12 @@ class SceneReader {
   }
 
   // The key that identifies a file however it is written (textures and meshes are read once).
+  // A file named in the scene: relative names are relative to the scene file's folder.
+  std::filesystem::path beside_scene(std::string_view name) const {
+    const std::filesystem::path file(name);
+    return file.is_relative() ? base_dir_ / file : file;
+  }
+
   static std::string file_key(const std::filesystem::path& file) {
     std::error_code ec;
     const std::filesystem::path key = std::filesystem::weakly_canonical(file, ec);
@@ -500,8 +506,7 @@ class SceneReader {
   uint32_t load_texture(const Value& v, const Path& path) {
     const std::string name = string(v, path);
     if (name.empty()) fail(v, path, "must name a texture file");
-    std::filesystem::path file(name);
-    if (file.is_relative()) file = base_dir_ / file;
+    const std::filesystem::path file = beside_scene(name);
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) fail(v, path, "texture file " + quote_text(file.string()) + " not found");
     try {
@@ -644,9 +649,7 @@ class SceneReader {
       const auto type = o.find("type"), file = o.find("file"), smooth = o.find("smooth");
       if (!type || !type->is_string() || type->as_string() != "mesh" || !file || !file->is_string()) continue;
       if (smooth && smooth->is_bool() && !smooth->as_bool()) continue;
-      std::filesystem::path path(std::string(file->as_string()));
-      if (path.is_relative()) path = base_dir_ / path;
-      smooth_mesh_files_.insert(file_key(path));
+      smooth_mesh_files_.insert(file_key(beside_scene(file->as_string())));
     }
     scene_.objects.reserve(list.size());
     for (size_t i = 0; i < list.size(); ++i) {
@@ -659,8 +662,7 @@ class SceneReader {
   uint32_t load_mesh(const Value& v, const Path& path) {
     const std::string name = string(v, path);
     if (name.empty()) fail(v, path, "must name a mesh file");
-    std::filesystem::path file(name);
-    if (file.is_relative()) file = base_dir_ / file;
+    const std::filesystem::path file = beside_scene(name);
     std::error_code ec;
     const std::string cache_key = file_key(file);
     if (auto it = mesh_index_.find(cache_key); it != mesh_index_.end()) return it->second;
