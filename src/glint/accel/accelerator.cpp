@@ -26,15 +26,16 @@ bool intersect_mesh(const Mesh& mesh, const MeshBvh* bvh, uint32_t index, const 
     // The double crossing of a float hit can fall just outside the interval
     // (grazing rays, hits at t_min): the float distance stands then.
     hit = Hit{h.t > object_ray.t_min && h.t < object_ray.t_max ? h.t : static_cast<double>(t), index, h.b1, h.b2, 0,
-              triangle};
+              triangle, vertices};
     return true;
   }
   Ray ray = object_ray;
   bool found = false;
   for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
-    const auto h = intersect_triangle(mesh_triangle(mesh, t), ray);
+    const Triangle vertices = mesh_triangle(mesh, t);
+    const auto h = intersect_triangle(vertices, ray);
     if (!h) continue;
-    hit = Hit{h->t, index, h->b1, h->b2, 0, t};
+    hit = Hit{h->t, index, h->b1, h->b2, 0, t, vertices};
     ray.t_max = h->t;
     found = true;
   }
@@ -54,25 +55,25 @@ inline bool intersect_shape(const Scene& scene, const Object& object, uint32_t i
   switch (object.type) {
     case ShapeType::sphere:
       if (auto t = intersect_sphere(scene.spheres[object.shape], ray)) {
-        hit = Hit{*t, index, 0, 0, 0, 0};
+        hit = Hit{*t, index, 0, 0, 0, 0, {}};
         return true;
       }
       return false;
     case ShapeType::plane:
       if (auto t = intersect_plane(scene.planes[object.shape], ray)) {
-        hit = Hit{*t, index, 0, 0, 0, 0};
+        hit = Hit{*t, index, 0, 0, 0, 0, {}};
         return true;
       }
       return false;
     case ShapeType::triangle:
       if (auto h = intersect_triangle(scene.triangles[object.shape], ray)) {
-        hit = Hit{h->t, index, h->b1, h->b2, 0, 0};
+        hit = Hit{h->t, index, h->b1, h->b2, 0, 0, {}};
         return true;
       }
       return false;
     case ShapeType::box:
       if (auto h = intersect_box(scene.boxes[object.shape], ray)) {
-        hit = Hit{h->t, index, 0, 0, h->face, 0};
+        hit = Hit{h->t, index, 0, 0, h->face, 0, {}};
         return true;
       }
       return false;
@@ -107,7 +108,7 @@ Hit refine_mesh_hit(const Scene& scene, uint32_t object, uint32_t triangle, cons
   const Ray ray = to_object_space(scene, o, world_ray);
   const Triangle tri = mesh_triangle(scene.meshes[o.shape], triangle);
   const TriangleHit h = triangle_plane_hit(tri, ray);
-  return Hit{h.t, object, h.b1, h.b2, 0, triangle};
+  return Hit{h.t, object, h.b1, h.b2, 0, triangle, tri};
 }
 
 bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, const std::vector<MeshBvh>* mesh_bvhs) {
@@ -209,9 +210,10 @@ class BvhAccelerator final : public Accelerator {
       if (packet.triangle[i] == kNoTriangle) continue;
       const Ray& r = object_rays[i];
       // The vertices from the block the kernel just read, as intersect_mesh does.
-      const TriangleHit h = triangle_plane_hit(block_triangle(mesh_bvh.blocks[packet.slot[i] / 4], packet.slot[i] % 4), r);
+      const Triangle vertices = block_triangle(mesh_bvh.blocks[packet.slot[i] / 4], packet.slot[i] % 4);
+      const TriangleHit h = triangle_plane_hit(vertices, r);
       const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(packet.t_max[i]);
-      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i]};
+      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i], vertices};
     }
   }
 

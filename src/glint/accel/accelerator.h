@@ -19,6 +19,10 @@ struct Hit {
   double b1 = 0, b2 = 0;  // triangle barycentrics
   int face = 0;           // box face
   uint32_t primitive = 0; // mesh objects: the triangle
+  // Mesh objects: that triangle's vertices in the mesh's space, copied where
+  // the traversal had them in cache. Shading reading them again through the
+  // mesh's index and vertex arrays missed the cache on big meshes.
+  Triangle vertices{};
 };
 
 struct MeshBvh;
