@@ -2,6 +2,9 @@
 // and every error class with its message and position.
 #include "glint/io/json.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -591,6 +594,26 @@ TEST(JsonFile, DirectoryIsAnError) {
   } catch (const Error& e) {
     EXPECT_EQ(e.message(), "cannot read: Is a directory");
   }
+}
+
+// /dev/zero was read until memory ran out (seconds, gigabytes); a FIFO
+// nobody writes to blocked glint forever in open().
+TEST(JsonFile, DevicesAreRefusedAndAFifoWithoutWriterDoesNotBlock) {
+  try {
+    parse_file("/dev/zero");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.message(), "not a regular file (nor a pipe)");
+  }
+  const std::string fifo = ::testing::TempDir() + "glint_test_json_fifo_" + std::to_string(::getpid());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    parse_file(fifo);  // read as empty: nobody writes
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location().file, fifo);
+  }
+  std::remove(fifo.c_str());
 }
 
 }  // namespace
