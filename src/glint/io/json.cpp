@@ -594,6 +594,7 @@ Document parse_file(const std::string& path) {
   std::string text;
   try {
     auto fail = [&](const std::string& what) -> void { throw Error(SourceLocation{path, 0, 0}, what); };
+    if (path.empty()) fail("the scene file name is empty");  // else a nameless "cannot open"
     // O_NONBLOCK: opening a pipe (FIFO) that nobody writes to returns at once
     // (and reads as an empty file) instead of waiting forever. Cleared below.
     struct Fd {
