@@ -700,6 +700,16 @@ TEST(MeshFileErrors, PlyBinaryBadData) {
   expect_error(dir.write("nan.ply", nan), "vertex 1 has a non-finite coordinate");
 }
 
+// 1-based line and column of byte `offset` of `text`.
+std::pair<int, int> line_and_column(const std::string& text, size_t offset) {
+  int line = 1, column = 1;
+  for (size_t i = 0; i < offset; ++i) {
+    if (text[i] == '\n') ++line, column = 1;
+    else ++column;
+  }
+  return {line, column};
+}
+
 TEST(MeshFileErrors, GltfBrokenData) {
   TempDir dir;
   std::ifstream in(fixture("triangle.gltf"));
@@ -715,6 +725,16 @@ TEST(MeshFileErrors, GltfBrokenData) {
   std::string missing = good;
   missing.replace(missing.find("data:application"), 16, "nowhere.bin#");
   expect_error(dir.write("missing.gltf", missing), "cannot read glTF");
+  // An external buffer file shorter than its byteLength (assimp leaked its
+  // stream when it threw on that).
+  std::string external = good;
+  const size_t uri = external.find("data:application");
+  external.replace(uri, external.find('"', uri) - uri, "short.bin");
+  dir.write("short.bin", std::string(10, '\0'));
+  const size_t length = external.find("\"byteLength\"", external.find("\"buffers\""));
+  const auto [line, column] = line_and_column(external, external.find(':', length) + 2);
+  expect_error(dir.write("external.gltf", external), "buffers[0].byteLength: 44 bytes, but 'short.bin' holds 10", line,
+               column);
 }
 
 // --- memory limits -------------------------------------------------------------

@@ -1857,6 +1857,18 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
     const auto uri = (*buffers)[i].find("uri");
     if (uri && uri->is_string() && !is_valid_data_uri(uri->as_string()))
       throw Error(where(*uri), "buffers[" + std::to_string(i) + "].uri: a data URI whose base64 does not decode");
+    // assimp 5.2 leaks the stream of an external buffer file shorter than
+    // its byteLength when it throws (adversarial review): checked here.
+    const auto length = (*buffers)[i].find("byteLength");
+    if (uri && uri->is_string() && uri->as_string().substr(0, 5) != "data:" && length && length->is_number()) {
+      const fs::path bin = fs::path(file).parent_path() / std::string(uri->as_string());
+      std::error_code ec;
+      const auto size = fs::is_regular_file(bin, ec) ? fs::file_size(bin, ec) : 0;
+      if (!ec && fs::is_regular_file(bin, ec) && double(size) < length->as_number())
+        throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " +
+                                        format_count(length->as_number()) + " bytes, but '" +
+                                        std::string(uri->as_string()) + "' holds " + std::to_string(size));
+    }
   }
   const auto meshes = root.find("meshes");
   for (size_t m = 0; meshes && meshes->is_array() && m < meshes->size(); ++m) {
