@@ -513,7 +513,11 @@ TEST(JsonErrors, NumberOutOfRange) {
   EXPECT_JSON_ERROR("[0, -1e999]", 1, 5, "number out of range: -1e999");
   EXPECT_JSON_ERROR("{\"r\":\n  -1.5E+400 }", 2, 3, "number out of range: -1.5E+400");
   std::string big = "1" + std::string(400, '0');
-  EXPECT_JSON_ERROR("[" + big + "]", 1, 2, "number out of range: " + big);
+  // Quoted up to 40 bytes: a million digits made a one-megabyte error line.
+  EXPECT_JSON_ERROR("[" + big + "]", 1, 2, "number out of range: " + big.substr(0, 40) + "...");
+  const std::string huge = "8" + std::string(1000000, '0');
+  EXPECT_JSON_ERROR("{\"width\": " + huge + "}", 1, 11, "number out of range: " + huge.substr(0, 40) + "...");
+  EXPECT_JSON_ERROR("[" + big.substr(0, 40) + "e999]", 1, 2, "number out of range: " + big.substr(0, 40) + "...");
 }
 
 TEST(JsonErrors, DuplicateKeys) {

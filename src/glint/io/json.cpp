@@ -362,7 +362,9 @@ bool Builder::parse_error(std::size_t position, const std::string& last_token,
   auto back = [&](size_t length) { return end >= base_ + length ? end - length : base_; };
 
   if (ex.id == 406) {  // out_of_range: a number that overflows a double
-    fail(back(last_token.size()), "number out of range: " + last_token);
+    // Quoted as far as 40 bytes: a million-digit literal makes no message.
+    const std::string shown = last_token.size() > 40 ? last_token.substr(0, 40) + "..." : last_token;
+    fail(back(last_token.size()), "number out of range: " + shown);
   }
 
   std::string_view what = ex.what();
