@@ -445,6 +445,13 @@ TEST_F(CliErrors, SceneIsAFolder) {
   expect_failure("render folder.json -o {out}", "folder.json");
 }
 
+// /dev/zero was read until memory ran out; "" said "cannot open" with no name.
+TEST_F(CliErrors, SceneThatIsADeviceOrHasNoName) {
+  expect_failure("render /dev/zero -o {out}", "error: /dev/zero: not a regular file (nor a pipe)");
+  expect_failure("validate /dev/zero", "error: /dev/zero: not a regular file (nor a pipe)");
+  expect_failure("render '' -o {out}", "error: the scene file name is empty");
+}
+
 TEST_F(CliErrors, UnknownOption) { expect_failure("render scene.json -o {out} --frobnicate", "--frobnicate"); }
 
 TEST_F(CliErrors, MalformedOptionValues) {

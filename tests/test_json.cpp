@@ -2,6 +2,9 @@
 // and every error class with its message and position.
 #include "glint/io/json.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -510,7 +513,11 @@ TEST(JsonErrors, NumberOutOfRange) {
   EXPECT_JSON_ERROR("[0, -1e999]", 1, 5, "number out of range: -1e999");
   EXPECT_JSON_ERROR("{\"r\":\n  -1.5E+400 }", 2, 3, "number out of range: -1.5E+400");
   std::string big = "1" + std::string(400, '0');
-  EXPECT_JSON_ERROR("[" + big + "]", 1, 2, "number out of range: " + big);
+  // Quoted up to 40 bytes: a million digits made a one-megabyte error line.
+  EXPECT_JSON_ERROR("[" + big + "]", 1, 2, "number out of range: " + big.substr(0, 40) + "...");
+  const std::string huge = "8" + std::string(1000000, '0');
+  EXPECT_JSON_ERROR("{\"width\": " + huge + "}", 1, 11, "number out of range: " + huge.substr(0, 40) + "...");
+  EXPECT_JSON_ERROR("[" + big.substr(0, 40) + "e999]", 1, 2, "number out of range: " + big.substr(0, 40) + "...");
 }
 
 TEST(JsonErrors, DuplicateKeys) {
@@ -591,6 +598,26 @@ TEST(JsonFile, DirectoryIsAnError) {
   } catch (const Error& e) {
     EXPECT_EQ(e.message(), "cannot read: Is a directory");
   }
+}
+
+// /dev/zero was read until memory ran out (seconds, gigabytes); a FIFO
+// nobody writes to blocked glint forever in open().
+TEST(JsonFile, DevicesAreRefusedAndAFifoWithoutWriterDoesNotBlock) {
+  try {
+    parse_file("/dev/zero");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.message(), "not a regular file (nor a pipe)");
+  }
+  const std::string fifo = ::testing::TempDir() + "glint_test_json_fifo_" + std::to_string(::getpid());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    parse_file(fifo);  // read as empty: nobody writes
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location().file, fifo);
+  }
+  std::remove(fifo.c_str());
 }
 
 }  // namespace

@@ -520,8 +520,83 @@ TEST(MeshFileErrors, ObjIndicesOutOfRangeWithLineAndColumn) {
   expect_error(dir.write("neg.obj", v + "f -1 -2 -4\n"), "vertex index -4 out of range", 4, 9);
   expect_error(dir.write("normal.obj", v + "vn 0 0 1\nf 1//1 2//1 3//2\n"), "normal index 2 out of range (1 normal)", 5,
                13);
-  expect_error(dir.write("zero.obj", v + "f 0 1 2\n"), "vertex index of 0 or not a number", 4);
-  expect_error(dir.write("word.obj", v + "f a b c\n"), "vertex index of 0 or not a number", 4);
+  expect_error(dir.write("zero.obj", v + "f 0 1 2\n"), "vertex index of 0 (OBJ counts from 1, or back from -1)", 4, 3);
+  expect_error(dir.write("word.obj", v + "f a b c\n"), "vertex index 'a' is not a whole number", 4, 3);
+  expect_error(dir.write("line.obj", v + "l 1 0\n"), "vertex index of 0", 4, 5);
+}
+
+// tinyobjloader reads indices with atoi and coordinates that are not numbers
+// as 0: such files loaded as other meshes, silently.
+TEST(MeshFileErrors, ObjIndicesThatAreNotWholeNumbersOrOverflow) {
+  TempDir dir;
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  // atoi wrapped this to -1: the last vertex.
+  expect_error(dir.write("huge.obj", v + "f 1 2 99999999999999999999\n"),
+               "vertex index '99999999999999999999' out of range", 4, 7);
+  expect_error(dir.write("big.obj", v + "f 1 2 4294967298\n"), "vertex index 4294967298 out of range (3 vertices)", 4,
+               7);
+  expect_error(dir.write("fraction.obj", v + "f 1.5 2 3\n"), "vertex index '1.5' is not a whole number", 4, 3);
+  expect_error(dir.write("suffix.obj", v + "f 1 2 3x\n"), "vertex index '3x' is not a whole number", 4, 7);
+  expect_error(dir.write("uv.obj", v + "vt 0 0\nf 1/1 2/1 3/9\n"),
+               "texture coordinate index 9 out of range (1 texture coordinate)", 5, 11);
+  expect_error(dir.write("uv-word.obj", v + "vt 0 0\nf 1/1 2/x 3/1\n"),
+               "texture coordinate index 'x' is not a whole number", 5, 7);
+  expect_error(dir.write("normal-neg.obj", v + "vn 0 0 1\nf 1//-1 2//-2 3//-1\n"),
+               "normal index -2 out of range (1 normal before it)", 5, 9);
+}
+
+TEST(MeshFileErrors, ObjCoordinatesThatAreNotNumbers) {
+  TempDir dir;
+  expect_error(dir.write("word.obj", "v 0 0 0\nv a b c\nv 0 1 0\nf 1 2 3\n"), "vertex coordinate 'a' is not a number", 2,
+               3);
+  expect_error(dir.write("comma.obj", "v 0 0 0\nv 1,5 0 0\nv 0 1 0\nf 1 2 3\n"),
+               "vertex coordinate '1,5' is not a number", 2, 3);
+  expect_error(dir.write("short.obj", "v 0 0 0\nv 1\nv 0 1 0\nf 1 2 3\n"), "vertex with 1 number (x y z needed)", 2, 4);
+  expect_error(dir.write("normal.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 1\nf 1//1 2//1 3//1\n"),
+               "normal with 2 numbers (x y z needed)", 4, 7);
+  expect_error(dir.write("uv.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt u v\nf 1/1 2/1 3/1\n"),
+               "texture coordinate 'u' is not a number", 4, 4);
+  // What the loader accepts: more numbers than needed (w, vertex colors),
+  // a comment after them, 2 or 3 texture coordinates, and nan/inf (an error
+  // only where a triangle uses it).
+  const MeshFile m = load_mesh_file(dir.write(
+      "fine.obj", "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 # top\nv nan 0 0\nvt 0.5\nvt 0 1 0\nf 1/1 2/2 3/1\n"));
+  EXPECT_EQ(m.triangle_count(), 1u);
+}
+
+// tinyobjloader reads an MTL number it cannot parse as 0: "Kd nan 0 0" was
+// black, "illum x" unlit, with no word said. The error names the .mtl file.
+TEST(MeshFileErrors, MtlNumbersThatAreNotNumbersNonFiniteOrNegative) {
+  TempDir dir;
+  const std::string obj = "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  auto expect_mtl_error = [&](const std::string& mtl, const std::string& part, int line, int column) {
+    const fs::path mtl_path = dir.write("m.mtl", mtl);
+    try {
+      load_mesh_file(dir.write("m.obj", obj));
+      ADD_FAILURE() << "loaded, expected an error with '" << part << "' for " << mtl;
+    } catch (const Error& e) {
+      EXPECT_NE(e.message().find(part), std::string::npos) << "message: " << e.what();
+      EXPECT_NE(e.message().find("(material library of " + (dir.path() / "m.obj").string() + ")"), std::string::npos)
+          << e.what();
+      EXPECT_EQ(e.location().file, mtl_path.lexically_normal().string()) << e.what();
+      EXPECT_EQ(e.location().line, line) << e.what();
+      EXPECT_EQ(e.location().column, column) << e.what();
+    }
+  };
+  expect_mtl_error("newmtl a\nKd nan 0 0\n", "Kd 'nan' is not a finite number", 2, 4);
+  expect_mtl_error("newmtl a\nKd 0.5 0.5 1e999\n", "Kd '1e999' is not a finite number", 2, 12);
+  expect_mtl_error("newmtl a\nKa 0 -1 0\n", "Ka '-1': color components must be >= 0", 2, 6);
+  expect_mtl_error("newmtl a\n  Ks red\n", "Ks 'red' is not a number", 2, 6);
+  expect_mtl_error("newmtl a\nKd xyz 1 1 1\n", "(only r g b colors are read)", 2, 4);
+  expect_mtl_error("newmtl a\nKd 1 1\n", "Kd: 1 or 3 numbers, not 2", 2, 6);
+  expect_mtl_error("# first\nnewmtl a\nKd 1 1 1\nNs inf\n", "Ns 'inf' is not a finite number", 4, 4);
+  expect_mtl_error("newmtl a\nillum x\n", "illum 'x' is not a whole number", 2, 7);
+  expect_mtl_error("newmtl a\nd 0.5x\n", "d '0.5x' is not a number", 2, 3);
+  // Accepted: one number for a gray, more than three (ignored), Ns 0 (a warning).
+  dir.write("m.mtl", "newmtl a\nKd 0.5\nKs 1 1 1 1\nNs 0\nillum 2\n");
+  const MeshFile m = load_mesh_file(dir.write("m.obj", obj));
+  EXPECT_EQ(m.triangle_count(), 1u);
+  EXPECT_EQ(count_containing(m.warnings, "Ns below 1 read as 1"), 1u);
 }
 
 TEST(MeshFileErrors, ObjNonFiniteVerticesUsedByATriangle) {
@@ -625,6 +700,16 @@ TEST(MeshFileErrors, PlyBinaryBadData) {
   expect_error(dir.write("nan.ply", nan), "vertex 1 has a non-finite coordinate");
 }
 
+// 1-based line and column of byte `offset` of `text`.
+std::pair<int, int> line_and_column(const std::string& text, size_t offset) {
+  int line = 1, column = 1;
+  for (size_t i = 0; i < offset; ++i) {
+    if (text[i] == '\n') ++line, column = 1;
+    else ++column;
+  }
+  return {line, column};
+}
+
 TEST(MeshFileErrors, GltfBrokenData) {
   TempDir dir;
   std::ifstream in(fixture("triangle.gltf"));
@@ -640,6 +725,16 @@ TEST(MeshFileErrors, GltfBrokenData) {
   std::string missing = good;
   missing.replace(missing.find("data:application"), 16, "nowhere.bin#");
   expect_error(dir.write("missing.gltf", missing), "cannot read glTF");
+  // An external buffer file shorter than its byteLength (assimp leaked its
+  // stream when it threw on that).
+  std::string external = good;
+  const size_t uri = external.find("data:application");
+  external.replace(uri, external.find('"', uri) - uri, "short.bin");
+  dir.write("short.bin", std::string(10, '\0'));
+  const size_t length = external.find("\"byteLength\"", external.find("\"buffers\""));
+  const auto [line, column] = line_and_column(external, external.find(':', length) + 2);
+  expect_error(dir.write("external.gltf", external), "buffers[0].byteLength: 44 bytes, but 'short.bin' holds 10", line,
+               column);
 }
 
 // --- memory limits -------------------------------------------------------------

@@ -138,6 +138,25 @@ TEST_F(MeshScene, MissingMeshFileIsAnErrorAtTheSceneKey) {
   }
 }
 
+// A folder or a device named as the mesh file was reported at the folder's
+// own path, without the scene position the "not found" error has.
+TEST_F(MeshScene, MeshFileThatIsAFolderOrADeviceIsAnErrorAtTheSceneKey) {
+  fs::create_directories(dir_ / "folder.obj");
+  fs::create_symlink("/dev/zero", dir_ / "zero.obj");
+  for (const char* name : {"folder.obj", "zero.obj"}) {
+    try {
+      load(std::string(R"({"type": "mesh", "file": ")") + name + "\"}");
+      FAIL() << name;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.location().file, (dir_ / "scene.json").string()) << e.what();
+      EXPECT_GT(e.location().line, 0) << e.what();
+      EXPECT_NE(e.message().find("objects[0].file"), std::string::npos) << e.what();
+      EXPECT_NE(e.message().find(std::string(name) == "folder.obj" ? "is a directory" : "not a regular file"),
+                std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST_F(MeshScene, TwoLevelBvhMatchesBruteForce) {
   // A 20x20 grid of small tilted quads as one mesh, instanced three times.
   std::string obj;

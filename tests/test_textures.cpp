@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -160,6 +161,29 @@ TEST(TextureFile, Errors) {
   const fs::path other = dir.write("t.gif89", "GIF89a");
   EXPECT_THROW(load_texture_image(other), Error);
   EXPECT_THROW(load_texture_image("/dev/zero"), Error);  // endless: refused, not read
+}
+
+// A float image can hold NaN, infinity and negative values; as reflectances
+// they were rendered (NaN pixels) without a word.
+TEST(TextureFile, NonFiniteOrNegativeTexelsAreErrors) {
+  TempDir dir;
+  auto expect_texel_error = [&](const std::string& name, std::vector<float> rgb, const std::string& part) {
+    Image image(2, 2);
+    image.rgb = std::move(rgb);
+    write_image(image, dir.path() / name);
+    try {
+      load_texture_image(dir.path() / name);
+      ADD_FAILURE() << name << ": loaded";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.location().file, (dir.path() / name).string());
+      EXPECT_NE(e.message().find(part), std::string::npos) << e.what();
+    }
+  };
+  const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+  expect_texel_error("nan.pfm", {0, 0, 0, 0, 0, 0, 0, nan, 0, 0, 0, 0}, "texel (0, 1) from the top-left is not a finite number");
+  expect_texel_error("inf.exr", {0, 0, 0, 0, 0, inf, 0, 0, 0, 0, 0, 0}, "texel (1, 0) from the top-left is not a finite number");
+  expect_texel_error("neg.exr", {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, -0.5f, 0},
+                     "texel (1, 1) from the top-left is negative (a reflectance must be >= 0)");
 }
 
 // --- lookups -----------------------------------------------------------------

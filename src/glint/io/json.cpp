@@ -3,6 +3,10 @@
 // nlohmann does all validation; this file only locates tokens and stores them.
 #include "glint/io/json.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cassert>
@@ -18,6 +22,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "glint/io/memory_limit.h"
 
 using NJson = nlohmann::json;
 
@@ -356,7 +362,9 @@ bool Builder::parse_error(std::size_t position, const std::string& last_token,
   auto back = [&](size_t length) { return end >= base_ + length ? end - length : base_; };
 
   if (ex.id == 406) {  // out_of_range: a number that overflows a double
-    fail(back(last_token.size()), "number out of range: " + last_token);
+    // Quoted as far as 40 bytes: a million-digit literal makes no message.
+    const std::string shown = last_token.size() > 40 ? last_token.substr(0, 40) + "..." : last_token;
+    fail(back(last_token.size()), "number out of range: " + shown);
   }
 
   std::string_view what = ex.what();
@@ -587,30 +595,51 @@ Document parse(std::string text, std::string filename) {
 Document parse_file(const std::string& path) {
   std::string text;
   try {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!file) {
+    auto fail = [&](const std::string& what) -> void { throw Error(SourceLocation{path, 0, 0}, what); };
+    if (path.empty()) fail("the scene file name is empty");  // else a nameless "cannot open"
+    // O_NONBLOCK: opening a pipe (FIFO) that nobody writes to returns at once
+    // (and reads as an empty file) instead of waiting forever. Cleared below.
+    struct Fd {
+      int fd;
+      ~Fd() {
+        if (fd >= 0) ::close(fd);
+      }
+    } file{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK)};
+    if (file.fd < 0) {
       int err = errno;  // before anything else can overwrite it
-      throw Error(SourceLocation{path, 0, 0}, std::string("cannot open: ") + std::strerror(err));
+      fail(std::string("cannot open: ") + std::strerror(err));
     }
-    // Read straight into a buffer of the file's size when it is known, then
-    // keep going in case the file grew or is not a regular file.
-    std::error_code ec;
-    auto expected = std::filesystem::file_size(path, ec);
-    if (!ec) {
-      text.resize(static_cast<size_t>(expected));
-      text.resize(std::fread(text.data(), 1, text.size(), file.get()));
+    struct stat info {};
+    if (::fstat(file.fd, &info) != 0) fail(std::string("cannot read: ") + std::strerror(errno));
+    if (S_ISDIR(info.st_mode)) fail(std::string("cannot read: ") + std::strerror(EISDIR));
+    // A device (/dev/zero, /dev/urandom) can be endless: only files and pipes.
+    if (!S_ISREG(info.st_mode) && !S_ISFIFO(info.st_mode)) fail("not a regular file (nor a pipe)");
+    const int flags = ::fcntl(file.fd, F_GETFL);
+    if (flags == -1 || ::fcntl(file.fd, F_SETFL, flags & ~O_NONBLOCK) == -1)
+      fail(std::string("cannot read: ") + std::strerror(errno));
+    // A pipe can be endless too: it may hold at most the memory budget.
+    const size_t budget = default_memory_budget();
+    if (S_ISREG(info.st_mode)) {
+      const std::string excess = exceeds_budget(static_cast<double>(info.st_size), budget);
+      if (!excess.empty()) fail("the file is " + format_bytes(static_cast<double>(info.st_size)) + ": that " + excess);
+      // Read straight into a buffer of the file's size, then keep going in case it grew.
+      text.reserve(static_cast<size_t>(info.st_size) + 1);
     }
     char chunk[1 << 16];
-    int err = 0;
-    while (err == 0 && !std::feof(file.get())) {
-      size_t n = std::fread(chunk, 1, sizeof chunk, file.get());
-      if (std::ferror(file.get())) err = errno != 0 ? errno : EIO;
-      text.append(chunk, n);
+    for (;;) {
+      const ssize_t n = ::read(file.fd, chunk, sizeof chunk);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        fail(std::string("cannot read: ") + std::strerror(errno));
+      }
+      if (n == 0) break;
+      text.append(chunk, static_cast<size_t>(n));
+      if (text.size() > budget) fail("more than " + format_bytes(static_cast<double>(budget)) +
+                                     " read: that " + exceeds_budget(static_cast<double>(text.size()), budget));
     }
-    if (err != 0) throw Error(SourceLocation{path, 0, 0}, std::string("cannot read: ") + std::strerror(err));
   } catch (const Error&) {
     throw;
-  } catch (const std::exception&) {  // bad_alloc, length_error, filesystem_error
+  } catch (const std::exception&) {  // bad_alloc, length_error
     throw Error(SourceLocation{path, 0, 0}, "out of memory while reading the file");
   }
   return parse(std::move(text), path);

@@ -102,7 +102,12 @@ class LineCursor {
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
     const size_t start = pos_;
-    while (pos_ < text_.size() && text_[pos_] != '\n' && text_[pos_] != '\r') ++pos_;
+    // memchr (vectorized) for the '\n', then for a '\r' before it.
+    const char* begin = text_.data() + start;
+    const char* nl = static_cast<const char*>(std::memchr(begin, '\n', text_.size() - start));
+    const char* end = nl ? nl : text_.data() + text_.size();
+    if (const void* cr = std::memchr(begin, '\r', static_cast<size_t>(end - begin))) end = static_cast<const char*>(cr);
+    pos_ = static_cast<size_t>(end - text_.data());
     line = text_.substr(start, pos_ - start);
     if (pos_ < text_.size()) {
       if (text_[pos_] == '\r' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '\n') ++pos_;
@@ -423,6 +428,12 @@ class MemoryStreambuf : public std::streambuf {
   }
 };
 
+// Where a text file goes wrong: 1-based line and column (line 0: nowhere).
+struct TextProblem {
+  int line = 0, column = 0;
+  std::string message;
+};
+
 // What tinyobjloader's material_t cannot tell: which keys a newmtl block gave,
 // whether a color had one value (the MTL spec: g = b = r), and where.
 struct MtlBlock {
@@ -433,9 +444,40 @@ struct MtlBlock {
   int illum_line = 0, ns_line = 0;
 };
 
+// The numbers of an MTL statement glint uses ("Kd 0.5 0.5 0.5"), checked:
+// tinyobjloader reads what is not a number as 0 ("Kd nan 0 0" is black,
+// "illum x" unlit). Colors take 1 or 3 numbers, finite and >= 0; Ns, Ni, d,
+// Tr one finite number; illum a whole number. Sets `problem` on the first.
+void check_mtl_numbers(std::string_view t, std::string_view key, int line, int offset, TextProblem& problem) {
+  if (problem.line > 0) return;
+  const bool color = key == "Ka" || key == "Kd" || key == "Ks" || key == "Tf" || key == "Kt";
+  const std::vector<Token> tokens = tokens_of(t.substr(key.size()), color ? 3 : 1);
+  auto report = [&](int column, std::string message) {
+    problem = {line, offset + static_cast<int>(key.size()) + column - 1, std::move(message)};
+  };
+  if (tokens.empty()) {
+    problem = {line, offset, std::string(key) + " without a value"};
+    return;
+  }
+  if (color && tokens.size() == 2) return report(tokens[1].column, std::string(key) + ": 1 or 3 numbers, not 2");
+  for (const Token& tok : tokens) {
+    const std::string value = "'" + std::string(tok.text) + "'";
+    if (key == "illum") {
+      if (!parse_integer(tok.text)) report(tok.column, "illum " + value + " is not a whole number");
+      return;
+    }
+    const auto x = parse_number(tok.text);
+    if (!x) return report(tok.column, std::string(key) + " " + value + " is not a number" +
+                                          (color ? " (only r g b colors are read)" : ""));
+    if (!std::isfinite(*x)) return report(tok.column, std::string(key) + " " + value + " is not a finite number");
+    if (color && *x < 0) return report(tok.column, std::string(key) + " " + value + ": color components must be >= 0");
+  }
+}
+
 // Mirrors tinyobj::LoadMtl's blocks: a newmtl flushes the block before it if
-// that one has a name; the last block is always flushed.
-std::vector<MtlBlock> scan_mtl(std::string_view text) {
+// that one has a name; the last block is always flushed. Sets `problem` on
+// the first number it cannot take (check_mtl_numbers).
+std::vector<MtlBlock> scan_mtl(std::string_view text, TextProblem& problem) {
   std::vector<MtlBlock> blocks;
   MtlBlock current;
   LineCursor lines(text);
@@ -454,6 +496,9 @@ std::vector<MtlBlock> scan_mtl(std::string_view text) {
       current.line = lines.number();
       continue;
     }
+    const int offset = static_cast<int>(t.data() - line.data()) + 1;
+    for (const char* key : {"Ka", "Kd", "Ks", "Tf", "Kt", "Ns", "Ni", "d", "Tr", "illum"})
+      if (key_is(t, key)) check_mtl_numbers(t, key, lines.number(), offset, problem);
     for (const char* color : {"Ka", "Kd", "Ks", "Tf", "Kt"}) {
       if (key_is(t, color)) {
         const std::string key = std::string(color) == "Kt" ? "Tf" : color;
@@ -568,7 +613,10 @@ class MtlReader : public tinyobj::MaterialReader {
       return false;
     }
     const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    std::vector<MtlBlock> blocks = scan_mtl(text);
+    TextProblem problem;
+    std::vector<MtlBlock> blocks = scan_mtl(text, problem);
+    if (problem.line > 0 && !error)
+      error = Error(SourceLocation{path.string(), problem.line, problem.column}, problem.message);
     const size_t before = materials->size();
     MemoryStreambuf buffer(text.data(), text.size());
     std::istream in(&buffer);
@@ -595,6 +643,7 @@ class MtlReader : public tinyobj::MaterialReader {
   };
   std::vector<Origin> origin;  // per material, as tinyobjloader numbers them
   std::vector<std::string> missing;
+  std::optional<Error> error;  // the first bad number in a material library (thrown once LoadObj returns)
 
  private:
   fs::path folder_;
@@ -637,47 +686,122 @@ std::vector<BadVertexText> scan_obj_nonfinite_text(std::string_view text) {
   return bad;
 }
 
-// The first face corner whose vertex or normal index is out of range: line,
-// column and message. Negative indices count back from the current end.
-struct IndexProblem {
-  int line = 0, column = 0;
-  std::string message;
-};
-IndexProblem find_obj_bad_index(std::string_view text, size_t vertex_total, size_t normal_total) {
+// The first statement whose numbers tinyobjloader would read wrongly or not
+// at all: line, column and message. tinyobjloader reads a coordinate that is
+// not a number ("v a b c", "v 1" without y and z) as 0, and an index with
+// atoi, so "1.5" is 1 and "99999999999999999999" wraps to -1, a valid index
+// counted back from the end. Checked here, in one pass over the text, before
+// it parses: every v/vn has 3 numbers and every vt 1 (the rest of a line is
+// not read); every index of a face, line or point is a whole number that
+// names an existing vertex, texture coordinate or normal (negative ones count
+// back from the current end). "nan" and "inf" are numbers here: a vertex
+// holding one is an error only if a triangle uses it.
+// [+-]digits[.digits][(e|E)[+-]digits] with a digit before or after the
+// point: what parse_number reads, without converting (most of the cost).
+bool is_decimal_number(std::string_view s) {
+  size_t i = 0, digits = 0;
+  auto is_digit = [&](size_t k) { return k < s.size() && s[k] >= '0' && s[k] <= '9'; };
+  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+  for (; is_digit(i); ++i) ++digits;
+  if (i < s.size() && s[i] == '.')
+    for (++i; is_digit(i); ++i) ++digits;
+  if (digits == 0) return false;
+  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+    ++i;
+    if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+    if (!is_digit(i)) return false;
+    while (is_digit(i)) ++i;
+  }
+  return i == s.size();
+}
+
+// An OBJ index: [+-]digits, at most 18 of them (so it fits in 64 bits).
+// parse_integer's result, faster (a large file has millions).
+std::optional<int64_t> parse_index(std::string_view s) {
+  size_t i = 0;
+  const bool negative = !s.empty() && s[0] == '-';
+  if (!s.empty() && (s[0] == '-' || s[0] == '+')) i = 1;
+  if (i == s.size() || s.size() - i > 18) return std::nullopt;
+  int64_t value = 0;
+  for (; i < s.size(); ++i) {
+    const unsigned digit = static_cast<unsigned>(s[i]) - '0';
+    if (digit > 9) return std::nullopt;
+    value = value * 10 + digit;
+  }
+  return negative ? -value : value;
+}
+
+TextProblem find_obj_bad_statement(std::string_view text) {
   LineCursor lines(text);
   std::string_view line;
-  int64_t vertices = 0, normals = 0;
+  int64_t counts[3] = {0, 0, 0};  // v, vt, vn so far
+  static constexpr const char* kIndexNames[3] = {"vertex", "texture coordinate", "normal"};
+  static constexpr const char* kPlural[3] = {"vertices", "texture coordinates", "normals"};
   auto key_is = [](std::string_view t, std::string_view key) {
     return t.size() > key.size() && t.substr(0, key.size()) == key && is_blank(t[key.size()]);
   };
+  // The next token of `t` from `pos` (blanks and \v \f separate), or empty.
+  auto next_token = [](std::string_view t, size_t& pos) {
+    auto blank = [](char c) { return is_blank(c) || c == '\r' || c == '\v' || c == '\f'; };
+    while (pos < t.size() && blank(t[pos])) ++pos;
+    const size_t start = pos;
+    while (pos < t.size() && !blank(t[pos])) ++pos;
+    return t.substr(start, pos - start);
+  };
   while (lines.next(line)) {
     const std::string_view t = skip_blanks(line);
-    if (key_is(t, "v")) ++vertices;
-    else if (key_is(t, "vn")) ++normals;
-    else if (key_is(t, "f")) {
-      const int offset = static_cast<int>(t.data() - line.data()) + 1;
-      for (const Token& tok : tokens_of(t.substr(1))) {
-        const std::string_view s = tok.text;
-        const size_t slash1 = s.find('/');
-        const size_t slash2 = slash1 == std::string_view::npos ? slash1 : s.find('/', slash1 + 1);
-        auto resolve = [](std::string_view part, int64_t count) -> int64_t {
-          const auto i = parse_integer(part);
-          if (!i) return -1;
-          return *i > 0 ? *i - 1 : count + *i;
-        };
-        const int64_t v = resolve(s.substr(0, slash1), vertices);
-        if (v < 0 || v >= static_cast<int64_t>(vertex_total))
-          return {lines.number(), offset + tok.column,
-                  "vertex index " + std::string(s.substr(0, slash1)) + " out of range (" +
-                      plural(vertex_total, "vertex", "vertices") + ")"};
-        if (slash2 != std::string_view::npos && slash2 + 1 < s.size()) {
-          const std::string_view np = s.substr(slash2 + 1);
-          const int64_t n = resolve(np, normals);
-          if (n < 0 || n >= static_cast<int64_t>(normal_total))
-            return {lines.number(), offset + tok.column,
-                    "normal index " + std::string(np) + " out of range (" +
-                        plural(normal_total, "normal", "normals") + ")"};
+    if (t.size() < 2 || (t[0] != 'v' && t[0] != 'f' && t[0] != 'l' && t[0] != 'p')) continue;
+    const int offset = static_cast<int>(t.data() - line.data()) + 1;  // column of t[0]
+    const int kind = key_is(t, "v") ? 0 : key_is(t, "vt") ? 1 : key_is(t, "vn") ? 2 : -1;
+    if (kind >= 0) {
+      const size_t needed = kind == 1 ? 1 : 3;
+      size_t pos = kind == 0 ? 1 : 2;
+      for (size_t k = 0; k < needed; ++k) {
+        const std::string_view tok = next_token(t, pos);
+        const int column = offset + static_cast<int>(pos - tok.size());
+        const char* what = kind == 0 ? "vertex" : kind == 1 ? "texture coordinate" : "normal";
+        if (tok.empty())
+          return {lines.number(), offset + static_cast<int>(pos),
+                  std::string(what) + " with " + plural(k, "number", "numbers") + " (" +
+                      (kind == 1 ? "u [v] needed)" : "x y z needed)")};
+        if (!is_decimal_number(tok) && !parse_number(tok))
+          return {lines.number(), column,
+                  std::string(what) + (kind == 1 ? " '" : " coordinate '") + std::string(tok) + "' is not a number"};
+      }
+      ++counts[kind];
+      continue;
+    }
+    if (!key_is(t, "f") && !key_is(t, "l") && !key_is(t, "p")) continue;
+    size_t pos = 1;
+    for (std::string_view tok = next_token(t, pos); !tok.empty(); tok = next_token(t, pos)) {
+      const int column = offset + static_cast<int>(pos - tok.size());
+      // v, v/vt, v//vn, v/vt/vn: empty parts are absent (the vertex is not).
+      std::string_view part = tok;
+      for (int k = 0; k < 3; ++k) {
+        const size_t slash = part.find('/');
+        const std::string_view index_text = part.substr(0, slash);
+        if (k == 0 || !index_text.empty()) {
+          const auto i = parse_index(index_text);
+          if (!i) {
+            const std::string_view digits = index_text.substr(index_text.starts_with('-') ? 1 : 0);
+            const bool too_long = !digits.empty() && digits.find_first_not_of("0123456789") == std::string_view::npos;
+            return {lines.number(), column,
+                    std::string(kIndexNames[k]) + " index '" + std::string(index_text) + "'" +
+                        (too_long ? " out of range" : " is not a whole number")};
+          }
+          if (*i == 0)
+            return {lines.number(), column,
+                    std::string(kIndexNames[k]) + " index of 0 (OBJ counts from 1, or back from -1)"};
+          const int64_t resolved = *i > 0 ? *i - 1 : counts[k] + *i;
+          if (resolved < 0 || resolved >= counts[k])
+            return {lines.number(), column,
+                    std::string(kIndexNames[k]) + " index " + std::string(index_text) + " out of range (" +
+                        (counts[k] == 1 ? "1 " + std::string(kIndexNames[k]) : std::to_string(counts[k]) + " " + kPlural[k]) +
+                        (*i < 0 ? " before it)" : ")")};
         }
+        if (slash == std::string_view::npos) break;
+        part = part.substr(slash + 1);
+        if (k == 2) break;
       }
     }
   }
@@ -748,6 +872,7 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
   }
   if (text.find('\0') != std::string_view::npos) fail(file, "not a Wavefront OBJ file (binary content)");
   if (text.find_first_not_of(" \t\r\n\v\f") == std::string_view::npos) fail(file, "empty file");
+  if (const TextProblem p = find_obj_bad_statement(text); p.line > 0) fail(file, p.message, p.line, p.column);
 
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
@@ -769,6 +894,8 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
       fail(file, "cannot read OBJ: " + (first.empty() ? std::string("unknown error") : first), line);
     }
   }
+  if (mtl_reader.error)  // at the .mtl's line; the message names the OBJ that uses it
+    throw Error(mtl_reader.error->location(), mtl_reader.error->message() + " (material library of " + file + ")");
   // bytes and converted stay alive: error paths below scan the text again.
 
   RawMesh raw;
@@ -861,9 +988,7 @@ MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<uns
     raw.non_faces += s.lines.num_line_vertices.size() + s.points.indices.size();
   }
   if (bad_index) {
-    const IndexProblem p = find_obj_bad_index(text, raw.positions.size(), normal_count);
-    if (p.line > 0) fail(file, p.message, p.line, p.column);
-    fail(file, "face index out of range");
+    fail(file, "face index out of range");  // find_obj_bad_statement found none: tinyobjloader disagrees
   }
   if (!raw.has_normals) raw.normals.clear();
   if (!raw.has_uvs) raw.uvs.clear();
@@ -1732,6 +1857,18 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
     const auto uri = (*buffers)[i].find("uri");
     if (uri && uri->is_string() && !is_valid_data_uri(uri->as_string()))
       throw Error(where(*uri), "buffers[" + std::to_string(i) + "].uri: a data URI whose base64 does not decode");
+    // assimp 5.2 leaks the stream of an external buffer file shorter than
+    // its byteLength when it throws (adversarial review): checked here.
+    const auto length = (*buffers)[i].find("byteLength");
+    if (uri && uri->is_string() && uri->as_string().substr(0, 5) != "data:" && length && length->is_number()) {
+      const fs::path bin = fs::path(file).parent_path() / std::string(uri->as_string());
+      std::error_code ec;
+      const auto size = fs::is_regular_file(bin, ec) ? fs::file_size(bin, ec) : 0;
+      if (!ec && fs::is_regular_file(bin, ec) && double(size) < length->as_number())
+        throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " +
+                                        format_count(length->as_number()) + " bytes, but '" +
+                                        std::string(uri->as_string()) + "' holds " + std::to_string(size));
+    }
   }
   const auto meshes = root.find("meshes");
   for (size_t m = 0; meshes && meshes->is_array() && m < meshes->size(); ++m) {

@@ -667,6 +667,10 @@ class SceneReader {
     const std::string cache_key = file_key(file);
     if (auto it = mesh_index_.find(cache_key); it != mesh_index_.end()) return it->second;
     if (!std::filesystem::exists(file, ec)) fail(v, path, "mesh file " + quote_text(file.string()) + " not found");
+    if (std::filesystem::is_directory(file, ec))
+      fail(v, path, "mesh file " + quote_text(file.string()) + " is a directory");
+    if (!std::filesystem::is_regular_file(file, ec))
+      fail(v, path, "mesh file " + quote_text(file.string()) + " is not a regular file (a device or a pipe)");
     MeshFile loaded = load_mesh_file(file, memory_budget_, smooth_mesh_files_.count(cache_key) > 0);
     for (std::string& w : loaded.warnings) scene_.warnings.push_back(std::move(w));
     // The file's textures join the scene's; one that cannot be read is a

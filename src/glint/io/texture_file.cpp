@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
@@ -119,6 +120,16 @@ TextureImage load_texture_image(const fs::path& path) {
                      supported_texture_extensions() + ")");
     }
     if (out.width <= 0 || out.height <= 0) fail(path, "the image is empty");
+    // A texel replaces a reflectance, which must be finite and >= 0 (as a
+    // color in the scene): float formats (.exr, .pfm) can hold anything.
+    for (size_t i = 0; i < out.texels.size(); ++i) {
+      const Vec3f& t = out.texels[i];
+      if (std::isfinite(t.x) && std::isfinite(t.y) && std::isfinite(t.z) && t.x >= 0 && t.y >= 0 && t.z >= 0) continue;
+      const size_t w = static_cast<size_t>(out.width);
+      const bool finite = std::isfinite(t.x) && std::isfinite(t.y) && std::isfinite(t.z);
+      fail(path, "texel (" + std::to_string(i % w) + ", " + std::to_string(i / w) + ") from the top-left " +
+                     (finite ? "is negative (a reflectance must be >= 0)" : "is not a finite number"));
+    }
     out.file = path.string();
     return out;
   } catch (const Error&) {
