@@ -297,6 +297,73 @@ TEST(Packets, TiesOnSharedEdgesGoToTheLowerTriangleInBothKernels) {
   EXPECT_GT(ties, 100);
 }
 
+// --- interleaved rays --------------------------------------------------------
+
+TEST(InterleavedRays, SameHitsAsSingleRays) {
+  // Random rays (some bounded) through a soup of overlapping triangles, and
+  // straight-down rays through a grid's shared edges and vertices (ties), in
+  // groups of every size up to the most, against the same rays one by one.
+  Rng rng(11);
+  Mesh soup;
+  soup.file = "soup";
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 c(rng.next_double() * 10 - 5, rng.next_double() * 10 - 5, rng.next_double() * 10 - 5);
+    const double size = 0.05 + rng.next_double() * (i % 50 == 0 ? 4.0 : 0.6);
+    for (int k = 0; k < 3; ++k) {
+      soup.positions.push_back(Vec3f{static_cast<float>(c.x + size * (rng.next_double() - 0.5)),
+                                     static_cast<float>(c.y + size * (rng.next_double() - 0.5)),
+                                     static_cast<float>(c.z + size * (rng.next_double() - 0.5))});
+      soup.indices.push_back(static_cast<uint32_t>(soup.positions.size() - 1));
+    }
+  }
+  for (int j = 0; j <= 8; ++j)
+    for (int i = 0; i <= 8; ++i) soup.positions.push_back(Vec3f{-1.0f + 0.25f * i, -1.0f + 0.25f * j, 9.0f});
+  const uint32_t grid = static_cast<uint32_t>(soup.positions.size()) - 81;
+  for (uint32_t j = 0; j < 8; ++j)
+    for (uint32_t i = 0; i < 8; ++i) {
+      const uint32_t a = grid + j * 9 + i, b = a + 1, c = a + 9, d = c + 1;
+      soup.indices.insert(soup.indices.end(), {a, b, d, a, d, c});
+    }
+  soup.triangle_material.assign(soup.triangle_count(), 0);
+  Scene scene;
+  add_mesh_object(scene, add_mesh(scene, std::move(soup)), 0, false);
+  AcceleratorOptions options;
+  options.threads = 1;
+  options.packet_kernel = PacketKernel::interleaved;
+  const auto accel = build_accelerator(scene, options);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 6000; ++i) {
+    const Vec3 o(rng.next_double() * 14 - 7, rng.next_double() * 14 - 7, rng.next_double() * 14 - 7);
+    const Vec3 d = normalize(Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5));
+    Ray r = make_ray(o, d);
+    if (i % 3 == 0) r.t_max = 4.0;
+    rays.push_back(r);
+  }
+  for (int j = 1; j < 8; ++j)
+    for (int i = 1; i < 8; ++i) {
+      const double x = -1.0 + 0.25 * i, y = -1.0 + 0.25 * j;
+      for (const Vec3 p : {Vec3(x, y, 12), Vec3(x + 0.125, y, 12), Vec3(x + 0.125, y + 0.125, 12)})
+        rays.push_back(make_ray(p, {0, 0, -1}));
+    }
+  int hits = 0, group = 1;
+  for (size_t k = 0; k < rays.size(); k += group, group = group % kPacketSize + 1) {
+    const int count = static_cast<int>(std::min<size_t>(group, rays.size() - k));
+    std::optional<Hit> got[kPacketSize];
+    accel->intersect_packet(&rays[k], count, got);
+    for (int i = 0; i < count; ++i) {
+      const auto want = accel->intersect(rays[k + i]);
+      ASSERT_EQ(got[i].has_value(), want.has_value()) << "ray " << k + i;
+      if (!want) continue;
+      ++hits;
+      EXPECT_EQ(got[i]->primitive, want->primitive) << "ray " << k + i;
+      EXPECT_EQ(got[i]->t, want->t) << "ray " << k + i;
+      EXPECT_EQ(got[i]->b1, want->b1) << "ray " << k + i;
+      EXPECT_EQ(got[i]->vertices.v2.z, want->vertices.v2.z) << "ray " << k + i;
+    }
+  }
+  EXPECT_GT(hits, 800);
+}
+
 // --- both backends ---------------------------------------------------------
 
 double fraction_within(const Image& a, const Image& b, double tolerance) {
