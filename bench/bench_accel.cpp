@@ -171,34 +171,17 @@ struct Kernel {
   std::function<uint64_t(const std::vector<glint::Ray>&, size_t, size_t)> closest;  // returns hits
   std::function<uint64_t(const std::vector<glint::Ray>&, size_t, size_t)> any;
   std::function<uint64_t(const std::vector<glint::Ray>&, size_t, size_t)> closest_packets;  // optional
-  std::function<uint64_t(const std::vector<glint::Ray>&, size_t, size_t)> closest_interleaved;  // optional
 };
 
-// Camera rays through Accelerator::intersect_packet, 8 at a time.
-uint64_t trace_packets(const glint::Accelerator& accel, const std::vector<glint::Ray>& rays, size_t b, size_t e) {
-  uint64_t hits = 0;
-  std::optional<glint::Hit> out[glint::kPacketSize];
-  for (size_t i = b; i < e; i += glint::kPacketSize) {
-    const int n = static_cast<int>(std::min<size_t>(glint::kPacketSize, e - i));
-    accel.intersect_packet(&rays[i], n, out);
-    for (int j = 0; j < n; ++j) hits += out[j].has_value();
-  }
-  return hits;
-}
-
-std::unique_ptr<glint::Accelerator> g_keep_ours, g_keep_ours_interleaved, g_keep_embree_backend;
+std::unique_ptr<glint::Accelerator> g_keep_ours, g_keep_embree_backend;
 
 Kernel accelerator_kernel(const std::string& name, const glint::Scene& scene, glint::AccelBackend backend,
-                          std::unique_ptr<glint::Accelerator>& keep, bool interleaved) {
+                          std::unique_ptr<glint::Accelerator>& keep) {
   Kernel k;
   k.name = name;
   const long rss0 = reset_peak_rss_kb();
   const auto t0 = Clock::now();
-  glint::AcceleratorOptions options;
-  options.threads = 2;
-  options.backend = backend;
-  options.packet_kernel = glint::PacketKernel::packets;
-  keep = glint::build_accelerator(scene, options);
+  keep = glint::build_accelerator(scene, glint::AcceleratorOptions{2, backend});
   k.build_seconds = seconds_since(t0);
   const double tris = static_cast<double>(scene.meshes[0].triangle_count());
   const glint::Mesh& mesh = scene.meshes[0];
@@ -218,18 +201,15 @@ Kernel accelerator_kernel(const std::string& name, const glint::Scene& scene, gl
     return hits;
   };
   k.closest_packets = [accel](const std::vector<glint::Ray>& rays, size_t b, size_t e) {
-    return trace_packets(*accel, rays, b, e);
+    uint64_t hits = 0;
+    std::optional<glint::Hit> out[glint::kPacketSize];
+    for (size_t i = b; i < e; i += glint::kPacketSize) {
+      const int n = static_cast<int>(std::min<size_t>(glint::kPacketSize, e - i));
+      accel->intersect_packet(&rays[i], n, out);
+      for (int j = 0; j < n; ++j) hits += out[j].has_value();
+    }
+    return hits;
   };
-  if (interleaved && backend == glint::AccelBackend::bvh) {
-    // The same BVH again, its camera-ray groups traced interleaved (built
-    // apart: the kernel is chosen when the accelerator is built).
-    options.packet_kernel = glint::PacketKernel::interleaved;
-    g_keep_ours_interleaved = glint::build_accelerator(scene, options);
-    const glint::Accelerator* il = g_keep_ours_interleaved.get();
-    k.closest_interleaved = [il](const std::vector<glint::Ray>& rays, size_t b, size_t e) {
-      return trace_packets(*il, rays, b, e);
-    };
-  }
   return k;
 }
 
@@ -403,16 +383,14 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "runs per measurement; the best is reported");
   bool only_ours = false;
   app.add_flag("--only-ours", only_ours, "measure our BVH alone (for profiling)");
-  std::string kinds_arg = "camera,shadow,mirror,packets,interleaved";
-  app.add_option("--rays", kinds_arg,
-                 "what to measure (for profiling one): camera, shadow, mirror, packets (ours: 8-ray packets), "
-                 "interleaved (ours: camera rays 8 at a time, interleaved)");
+  std::string kinds_arg = "camera,shadow,mirror,packets";
+  app.add_option("--rays", kinds_arg, "what to measure (for profiling one): camera, shadow, mirror, packets");
   CLI11_PARSE(app, argc, argv);
   const std::vector<size_t> sizes = parse_list(sizes_arg);
   const std::vector<size_t> thread_counts = parse_list(threads_arg);
   auto wanted = [&](const char* kind) { return ("," + kinds_arg + ",").find("," + std::string(kind) + ",") != std::string::npos; };
   const bool want_camera = wanted("camera"), want_shadow = wanted("shadow"), want_mirror = wanted("mirror"),
-             want_packets = wanted("packets"), want_interleaved = wanted("interleaved");
+             want_packets = wanted("packets");
 
   std::printf("glint_bench_accel: %dx%d camera rays, best of %d; Mrays/s\n\n", width, height, repeat);
   // Scaling: per kernel, per size, the cost of a camera ray and a mirror ray
@@ -425,11 +403,11 @@ int main(int argc, char** argv) {
     std::printf("== terrain, %zu triangles (generated in %.2f s) ==\n", tris, seconds_since(t_gen));
 
     std::vector<Kernel> kernels;
-    kernels.push_back(accelerator_kernel("glint-bvh", scene, glint::AccelBackend::bvh, g_keep_ours, want_interleaved));
+    kernels.push_back(accelerator_kernel("glint-bvh", scene, glint::AccelBackend::bvh, g_keep_ours));
     const RaySet rays = make_rays(scene, *g_keep_ours, width, height);
 #if GLINT_HAVE_EMBREE
     if (!only_ours) {
-    kernels.push_back(accelerator_kernel("glint-embree", scene, glint::AccelBackend::embree, g_keep_embree_backend, false));
+    kernels.push_back(accelerator_kernel("glint-embree", scene, glint::AccelBackend::embree, g_keep_embree_backend));
     kernels.push_back(embree_kernel(scene));
     kernels.push_back(embree_kernel(scene, true));
     }
@@ -438,7 +416,7 @@ int main(int argc, char** argv) {
                 rays.mirror.size());
     std::printf("%-13s %8s %9s %9s", "kernel", "build s", "B/tri", "peak B/tri");
     for (size_t t : thread_counts)
-      std::printf(" | %zuT: camera  shadow  mirror  cam-pkt  cam-il", t);
+      std::printf(" | %zuT: camera  shadow  mirror  cam-pkt", t);
     std::printf("\n");
     std::vector<std::vector<double>> results;
     for (const Kernel& k : kernels) {
@@ -454,11 +432,8 @@ int main(int argc, char** argv) {
         const double pkt = want_packets && k.closest_packets
                                ? mrays(k.closest_packets, rays.camera, static_cast<int>(t), repeat, nullptr)
                                : 0.0;
-        const double il = want_interleaved && k.closest_interleaved
-                              ? mrays(k.closest_interleaved, rays.camera, static_cast<int>(t), repeat, nullptr)
-                              : 0.0;
-        row.insert(row.end(), {cam, sh, mir, pkt, il});
-        std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f %7.2f", "", cam, sh, mir, pkt, il);
+        row.insert(row.end(), {cam, sh, mir, pkt});
+        std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", cam, sh, mir, pkt);
         (void)camera_hits;
         (void)shadow_hits;
       }
@@ -475,18 +450,17 @@ int main(int argc, char** argv) {
                   ours.bytes_per_triangle / ref.bytes_per_triangle,
                   ours.peak_bytes_per_triangle / ref.peak_bytes_per_triangle);
       for (size_t i = 0; i < thread_counts.size(); ++i) {
-        const double* a = &results[0][5 * i];
-        const double* b = &results[2][5 * i];
+        const double* a = &results[0][4 * i];
+        const double* b = &results[2][4 * i];
         auto ratio = [](double x, double y) { return y > 0 ? x / y : 0.0; };
-        std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f %7.2f", "", ratio(a[0], b[0]), ratio(a[1], b[1]), ratio(a[2], b[2]),
-                    ratio(a[3], b[3]), ratio(a[4], b[3]));
+        std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", ratio(a[0], b[0]), ratio(a[1], b[1]), ratio(a[2], b[2]),
+                    ratio(a[3], b[3]));
       }
-      std::printf("   (build and bytes: lower is better; rays: higher; cam-pkt: our 8-ray packets / Embree 16-ray packets; cam-il: our interleaved camera rays / Embree 16-ray packets)\n");
+      std::printf("   (build and bytes: lower is better; rays: higher; cam-pkt: our 8-ray packets / Embree 16-ray packets)\n");
     }
     std::printf("\n");
     std::fflush(stdout);
     g_keep_ours.reset();
-    g_keep_ours_interleaved.reset();
     g_keep_embree_backend.reset();
 #if GLINT_HAVE_EMBREE
     g_keep_embree.reset();

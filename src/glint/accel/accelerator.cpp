@@ -147,7 +147,6 @@ class BvhAccelerator final : public Accelerator {
         single_mesh_ = scene.objects[i].type == ShapeType::mesh ? i : kNone;
       }
     if (finite != 1) single_mesh_ = kNone;
-    interleave_ = options.packet_kernel == PacketKernel::interleaved;
   }
 
   std::optional<Hit> intersect(const Ray& world_ray) const override {
@@ -199,22 +198,6 @@ class BvhAccelerator final : public Accelerator {
       }
       object_rays = copies;
     }
-    // The hits refined in double from the block the kernel just read, as
-    // intersect_mesh does.
-    auto refine = [&](int i, uint32_t triangle, uint32_t slot, float t_float) {
-      const Ray& r = object_rays[i];
-      const Triangle vertices = block_triangle(mesh_bvh.blocks[slot / 4], static_cast<int>(slot % 4));
-      const TriangleHit h = triangle_plane_hit(vertices, r);
-      const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(t_float);
-      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, triangle, vertices};
-    };
-    if (interleave_) {
-      MeshHit mesh_hits[kPacketSize];
-      intersect_mesh_bvh_interleaved(mesh_bvh, object_rays, count, mesh_hits);
-      for (int i = 0; i < count; ++i)
-        if (mesh_hits[i].triangle != kNoTriangle) refine(i, mesh_hits[i].triangle, mesh_hits[i].slot, mesh_hits[i].t);
-      return;
-    }
     RayPacket packet = make_ray_packet(object_rays, count);
     if (!intersect_mesh_packet(mesh_bvh, packet)) {
       for (int i = 0; i < count; ++i) {
@@ -223,8 +206,15 @@ class BvhAccelerator final : public Accelerator {
       }
       return;
     }
-    for (int i = 0; i < count; ++i)
-      if (packet.triangle[i] != kNoTriangle) refine(i, packet.triangle[i], packet.slot[i], packet.t_max[i]);
+    for (int i = 0; i < count; ++i) {
+      if (packet.triangle[i] == kNoTriangle) continue;
+      const Ray& r = object_rays[i];
+      // The vertices from the block the kernel just read, as intersect_mesh does.
+      const Triangle vertices = block_triangle(mesh_bvh.blocks[packet.slot[i] / 4], packet.slot[i] % 4);
+      const TriangleHit h = triangle_plane_hit(vertices, r);
+      const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(packet.t_max[i]);
+      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i], vertices};
+    }
   }
 
   bool occluded(const Ray& ray) const override { return first_blocker(ray).has_value(); }
@@ -256,7 +246,6 @@ class BvhAccelerator final : public Accelerator {
   const Scene& scene_;
   std::vector<uint32_t> planes_;
   uint32_t single_mesh_ = kNone;
-  bool interleave_ = false;
   std::vector<MeshBvh> mesh_bvhs_;
   Bvh bvh_;
 };

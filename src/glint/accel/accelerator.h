@@ -66,17 +66,9 @@ class Accelerator {
 // Ours is the default: it measured faster end to end (README, Performance).
 enum class AccelBackend { bvh, embree };
 
-// How our BVH traces a group of camera rays (Accelerator::intersect_packet)
-// when the scene is one mesh: as a packet through shared node tests
-// (coherent rays on triangles bigger than a pixel), or interleaved, each ray
-// on its own but in turns so that memory waits overlap (big meshes whose
-// triangles are smaller than a pixel). `automatic` picks by the mesh's size.
-enum class PacketKernel { automatic, packets, interleaved };
-
 struct AcceleratorOptions {
   int threads = 0;  // build threads; 0: all cores
   AccelBackend backend = AccelBackend::bvh;
-  PacketKernel packet_kernel = PacketKernel::automatic;
 };
 
 // Our SAH BVH over every finite object (or Embree's, per options.backend);

@@ -91,7 +91,6 @@ struct RaySlabs {
   // plane is then the box's hi side): a blend picks the planes, which keeps
   // the general-purpose registers free for the traversal.
   FloatLanes negative[3];
-  RaySlabs() = default;
   explicit RaySlabs(const Ray& ray) {
     for (int a = 0; a < 3; ++a) {
       const float inv = static_cast<float>(1.0 / ray.direction[a]);
@@ -227,117 +226,6 @@ bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf, PrefetchFn
       if (top == 0) return found;
       e = stack[--top];
     } while (e.t > t_max * (1.0f + 0x1p-20f));
-  }
-}
-
-// Asks for the memory an entry's visit will read: an inner node's lines, or a
-// leaf's (through `prefetch`).
-template <class PrefetchFn>
-inline void prefetch_entry(const Bvh& bvh, uint32_t child, uint32_t count, PrefetchFn& prefetch) {
-  if (count) {
-    prefetch(child, count);
-    return;
-  }
-  const char* p = reinterpret_cast<const char*>(&bvh.nodes[child]);
-  for (size_t line = 0; line < sizeof(BvhNode); line += 64) _mm_prefetch(p + line, _MM_HINT_T0);
-}
-
-// Rays traced together by traverse_closest_leaves_interleaved, at most.
-inline constexpr int kInterleavedRays = 8;
-
-// Closest hits of up to kInterleavedRays independent rays, traversed in
-// turns: each turn visits one node or leaf of one ray, asks for the memory of
-// that ray's next visit and moves on to the next ray. On a BVH many times
-// the size of the caches a single ray waits for each node in turn; here the
-// other rays' visits cover the wait (memory-level parallelism, as in
-// ray streams). Each ray visits exactly what traverse_closest_leaves would,
-// in the same order, so the hits are the same.
-// `leaf(ray, first, count, rays[ray])` is as for traverse_closest_leaves,
-// with the ray's index first; found[i] tells whether ray i hit.
-template <class LeafFn, class PrefetchFn = NoPrefetch>
-void traverse_closest_leaves_interleaved(const Bvh& bvh, Ray* rays, int count, bool* found, LeafFn&& leaf,
-                                         PrefetchFn&& prefetch = {}) {
-  for (int i = 0; i < count; ++i) found[i] = false;
-  if (bvh.nodes.empty()) return;
-  struct Entry { uint32_t child, count; float t; };
-  struct State {
-    RaySlabs slabs;
-    FloatLanes t_min;
-    float t_max;
-    int top;
-    Entry next;
-  };
-  State state[kInterleavedRays];
-  Entry stack[kInterleavedRays][kTraversalStack];
-  int active[kInterleavedRays], active_count = 0;
-  for (int i = 0; i < count && i < kInterleavedRays; ++i) {
-    State& s = state[i];
-    s.slabs = RaySlabs(rays[i]);
-    s.t_min = lanes_set1(static_cast<float>(rays[i].t_min) * (1.0f - 0x1p-20f) - 1e-30f);
-    s.t_max = clamp_to_float(rays[i].t_max);
-    s.top = 0;
-    s.next = {0, 0, -INFINITY};
-    active[active_count++] = i;
-  }
-  while (active_count > 0) {
-    for (int k = 0; k < active_count;) {
-      const int i = active[k];
-      State& s = state[i];
-      Entry* const st = stack[i];
-      const Entry e = s.next;
-      bool descend = false;
-      if (e.count > 0) {
-        if (leaf(i, e.child, e.count, rays[i])) {
-          found[i] = true;
-          s.t_max = clamp_to_float(rays[i].t_max);
-        }
-      } else {
-        const BvhNode& n = bvh.nodes[e.child];
-        FloatLanes t_near;
-        int mask = hit_children(n, s.slabs, s.t_min, s.t_max, t_near);
-        if (mask) {
-          // As traverse_closest_leaves: the nearest child next, the others
-          // onto the stack far to near.
-          alignas(32) float t[kBvhWidth];
-          lanes_store(t, t_near);
-          const int base = s.top;
-          int top = s.top;
-          while (mask) {
-            const int c = __builtin_ctz(mask);
-            mask &= mask - 1;
-            const Entry h{n.child[c], n.count[c], t[c]};
-            if (h.count) prefetch(h.child, h.count);
-            int j = top++;
-            while (j > base && st[j - 1].t < h.t) {
-              st[j] = st[j - 1];
-              --j;
-            }
-            st[j] = h;
-          }
-          s.next = st[--top];
-          s.top = top;
-          descend = true;
-        }
-      }
-      if (!descend) {
-        // The nearest pushed entry still in front of the nearest hit, or done.
-        bool done = true;
-        while (s.top > 0) {
-          const Entry next = st[--s.top];
-          if (next.t <= s.t_max * (1.0f + 0x1p-20f)) {
-            s.next = next;
-            done = false;
-            break;
-          }
-        }
-        if (done) {
-          active[k] = active[--active_count];
-          continue;
-        }
-      }
-      prefetch_entry(bvh, s.next.child, s.next.count, prefetch);
-      ++k;
-    }
   }
 }
 

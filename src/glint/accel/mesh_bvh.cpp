@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <new>
 #include <thread>
 
 namespace glint {
@@ -188,57 +187,6 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
   triangle = m.blocks[best_block].id[best_lane];
   vertices = block_triangle(m.blocks[best_block], best_lane);
   return true;
-}
-
-void intersect_mesh_bvh_interleaved(const MeshBvh& m, const Ray* rays, int count, MeshHit* hits) {
-  count = std::min(count, kInterleavedRays);
-  // Per ray, what intersect_mesh_bvh keeps.
-  struct Best {
-    WatertightRay4 wray;
-    __m128 t_min;
-    float t;
-    uint32_t block, id;
-    int lane;
-  };
-  alignas(16) unsigned char storage[kInterleavedRays * sizeof(Best)];
-  Best* best = reinterpret_cast<Best*>(storage);
-  Ray traversal[kInterleavedRays];
-  for (int i = 0; i < count; ++i) {
-    new (&best[i]) Best{WatertightRay4(rays[i]), _mm_set1_ps(float_t_min(rays[i])), float_t_max_inclusive(rays[i]),
-                        0, kNoHitId, 0};
-    traversal[i] = rays[i];
-  }
-  bool found[kInterleavedRays];
-  traverse_closest_leaves_interleaved(m.bvh, traversal, count, found, [&](int i, uint32_t first, uint32_t n, Ray& r) {
-    Best& b = best[i];
-    bool hit = false;
-    for (uint32_t block = first; block < first + n; ++block) {
-      __m128 t;
-      int mask = intersect_block(m.blocks[block], b.wray, b.t_min, _mm_set1_ps(b.t), t);
-      if (!mask) continue;
-      alignas(16) float ts[4];
-      _mm_store_ps(ts, t);
-      while (mask) {
-        const int lane = __builtin_ctz(mask);
-        mask &= mask - 1;
-        const uint32_t id = m.blocks[block].id[lane];
-        if (ts[lane] < b.t || (ts[lane] == b.t && id < b.id)) {
-          b.t = ts[lane];
-          b.id = id;
-          b.block = block;
-          b.lane = lane;
-          hit = true;
-        }
-      }
-    }
-    if (hit) r.t_max = b.t;
-    return hit;
-  }, [&](uint32_t first, uint32_t n) { prefetch_blocks(m, first, n); });
-  for (int i = 0; i < count; ++i) {
-    hits[i].triangle = found[i] ? m.blocks[best[i].block].id[best[i].lane] : kNoTriangle;
-    hits[i].slot = best[i].block * 4 + static_cast<uint32_t>(best[i].lane);
-    hits[i].t = best[i].t;
-  }
 }
 
 bool occluded_mesh_bvh(const MeshBvh& m, const Ray& ray) {

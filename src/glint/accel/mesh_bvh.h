@@ -38,17 +38,6 @@ MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options = {});
 bool intersect_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray, uint32_t& triangle, float& t, Triangle& vertices);
 // The vertices of lane `lane` of block `block`, as doubles.
 Triangle block_triangle(const Triangle4& block, int lane);
-
-// The closest hits of up to kInterleavedRays independent rays, traced in
-// turns so that one ray's memory waits overlap the others' work (bvh.h):
-// exactly intersect_mesh_bvh's answers, faster when the mesh's BVH is far
-// bigger than the caches and the rays are too spread for a packet.
-struct MeshHit {
-  uint32_t triangle;  // kNoTriangle when nothing is hit
-  uint32_t slot;      // where in MeshBvh::blocks (block * 4 + lane)
-  float t;
-};
-void intersect_mesh_bvh_interleaved(const MeshBvh& mesh_bvh, const Ray* rays, int count, MeshHit* hits);
 // Whether any triangle is hit in (ray.t_min, ray.t_max).
 bool occluded_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray);
 
