@@ -1629,10 +1629,11 @@ bool is_valid_data_uri(std::string_view uri) {
 // assimp 5.2's data URI parser (glTFCommon ParseDataURI) keeps the offsets of
 // the parts it found in the string's first bytes, each as a char: a header
 // (the part before the first ',') of 127 bytes or more wraps an offset
-// negative, and the payload is then read from before the string (fuzz_mesh_gltf:
-// a leak, or a length near 2^64). A string starting with byte 0x10 counts as
-// already parsed, its next four bytes as those offsets. Both are checked
-// for buffers, and images never reach it (see reduce_gltf_json).
+// negative, and the payload is then read from before the string (a leak);
+// a string starting with byte 0x10 counts as already parsed, its next four
+// bytes as those offsets (a length near 2^64). Both found by hand next to a
+// fuzz_mesh_gltf finding; buffers are checked for both, and images never
+// reach the parser (see reduce_gltf_json).
 constexpr size_t kMaxDataUriHeader = 126;
 bool assimp_reads_as_data_uri(std::string_view uri) {
   return uri.substr(0, 5) == "data:" || (!uri.empty() && uri[0] == '\x10');
@@ -1777,9 +1778,10 @@ std::string reduce_gltf_json(const std::string& text) {
   for (const char* key : {"animations", "skins", "cameras"}) j.erase(key);
   // Embedded images (data URIs, or bytes in a buffer view) are never read by
   // glint, and assimp 5.2 fails on their details: it leaked decoding bad
-  // base64, dereferenced null for a media type without '/' ("data:png;..." or
-  // "mimeType": "png"), misread a long data URI header (fuzz_mesh_gltf). Each
-  // reaches it as the same 3 zero bytes of PNG. Image files keep their uri.
+  // base64, called strcmp on strchr(type, '/') + 1 (address 1) for a media
+  // type without '/' ("data:png;...", a fuzz_mesh_gltf finding, or
+  // "mimeType": "png"), misread a long data URI header. Each reaches it as
+  // the same 3 zero bytes of PNG. Image files keep their uri.
   if (auto images = j.find("images"); images != j.end() && images->is_array())
     for (NJson& image : *images) {
       if (!image.is_object()) continue;
