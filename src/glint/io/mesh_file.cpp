@@ -9,7 +9,8 @@
 //   in range) by a structural walk that stores nothing. Its glTF reader trusts
 //   the JSON: glint's JSON reader checks it first (what it claims in memory,
 //   accessors within their views, sparse parts), and assimp gets it reduced
-//   to what glint uses (no skins, animations, morph targets or cameras).
+//   to what glint uses (no skins, animations, morph targets, cameras or
+//   embedded images).
 // - Every format: what the file claims or implies in memory is checked
 //   against a budget (memory_limit.h) before it is allocated.
 // Then, for every format: polygons triangulated (quads on the shorter
@@ -1762,6 +1763,19 @@ bool is_valid_data_uri(std::string_view uri) {
   return true;
 }
 
+// assimp 5.2's data URI parser (glTFCommon ParseDataURI) keeps the offsets of
+// the parts it found in the string's first bytes, each as a char: a header
+// (the part before the first ',') of 127 bytes or more wraps an offset
+// negative, and the payload is then read from before the string (a leak);
+// a string starting with byte 0x10 counts as already parsed, its next four
+// bytes as those offsets (a length near 2^64). Both found by hand next to a
+// fuzz_mesh_gltf finding; buffers are checked for both, and images never
+// reach the parser (see reduce_gltf_json).
+constexpr size_t kMaxDataUriHeader = 126;
+bool assimp_reads_as_data_uri(std::string_view uri) {
+  return uri.substr(0, 5) == "data:" || (!uri.empty() && uri[0] == '\x10');
+}
+
 // One primitive's indices: unsigned integer scalars (assimp leaked on a VEC3
 // index accessor), and at least as many corners (indices, or positions
 // without them) as its mode needs for one point, line or triangle: with fewer,
@@ -1867,19 +1881,26 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
   const auto buffers = root.find("buffers");
   for (size_t i = 0; buffers && buffers->is_array() && i < buffers->size(); ++i) {
     const auto uri = (*buffers)[i].find("uri");
-    if (uri && uri->is_string() && !is_valid_data_uri(uri->as_string()))
-      throw Error(where(*uri), "buffers[" + std::to_string(i) + "].uri: a data URI whose base64 does not decode");
+    if (!uri || !uri->is_string()) continue;
+    const std::string_view u = uri->as_string();
+    const std::string name = "buffers[" + std::to_string(i) + "].uri: ";
+    if (!u.empty() && static_cast<unsigned char>(u[0]) < 0x20)
+      throw Error(where(*uri), name + "starts with a control character (not a URI)");
+    if (assimp_reads_as_data_uri(u) && std::min(u.find(','), u.size()) > kMaxDataUriHeader)
+      throw Error(where(*uri), name + "a data URI whose header (before the first ',') is longer than " +
+                                   std::to_string(kMaxDataUriHeader) + " bytes");
+    if (!is_valid_data_uri(u)) throw Error(where(*uri), name + "a data URI whose base64 does not decode");
     // assimp 5.2 leaks the stream of an external buffer file shorter than
     // its byteLength when it throws (adversarial review): checked here.
     const auto length = (*buffers)[i].find("byteLength");
-    if (uri && uri->is_string() && uri->as_string().substr(0, 5) != "data:" && length && length->is_number()) {
-      const fs::path bin = fs::path(file).parent_path() / std::string(uri->as_string());
+    if (u.substr(0, 5) != "data:" && length && length->is_number()) {
+      const fs::path bin = fs::path(file).parent_path() / std::string(u);
       std::error_code ec;
       const auto size = fs::is_regular_file(bin, ec) ? fs::file_size(bin, ec) : 0;
       if (!ec && fs::is_regular_file(bin, ec) && double(size) < length->as_number())
         throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " +
-                                        format_count(length->as_number()) + " bytes, but '" +
-                                        std::string(uri->as_string()) + "' holds " + std::to_string(size));
+                                        format_count(length->as_number()) + " bytes, but '" + std::string(u) +
+                                        "' holds " + std::to_string(size));
     }
   }
   const auto meshes = root.find("meshes");
@@ -1904,13 +1925,24 @@ std::string reduce_gltf_json(const std::string& text) {
   NJson j = NJson::parse(text);
   if (!j.is_object()) return text;
   for (const char* key : {"animations", "skins", "cameras"}) j.erase(key);
-  // Embedded images are never decoded by glint, but assimp decodes their
-  // base64 and leaks on a bad one: those become 3 zero bytes.
+  // Embedded images (data URIs, or bytes in a buffer view) are never read by
+  // glint, and assimp 5.2 fails on their details: it leaked decoding bad
+  // base64, called strcmp on strchr(type, '/') + 1 (address 1) for a media
+  // type without '/' ("data:png;...", a fuzz_mesh_gltf finding, or
+  // "mimeType": "png"), misread a long data URI header. Each reaches it as
+  // the same 3 zero bytes of PNG. Image files keep their uri.
   if (auto images = j.find("images"); images != j.end() && images->is_array())
     for (NJson& image : *images) {
-      if (!image.is_object() || !image.contains("uri") || !image["uri"].is_string()) continue;
-      const std::string uri = image["uri"].get<std::string>();
-      if (!is_valid_data_uri(uri)) image["uri"] = uri.substr(0, uri.find(',')) + ",AAAA";
+      if (!image.is_object()) continue;
+      // assimp reads a bufferView when there is no string uri.
+      const auto uri = image.find("uri");
+      const bool embedded = uri != image.end() && uri->is_string()
+                                ? assimp_reads_as_data_uri(uri->get<std::string>())
+                                : image.contains("bufferView");
+      if (!embedded) continue;
+      image.erase("bufferView");
+      image.erase("mimeType");
+      image["uri"] = "data:image/png;base64,AAAA";
     }
   if (auto nodes = j.find("nodes"); nodes != j.end() && nodes->is_array())
     for (NJson& node : *nodes)
