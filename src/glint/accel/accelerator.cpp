@@ -26,7 +26,7 @@ bool intersect_mesh(const Mesh& mesh, const MeshBvh* bvh, uint32_t index, const 
     // The double crossing of a float hit can fall just outside the interval
     // (grazing rays, hits at t_min): the float distance stands then.
     hit = Hit{h.t > object_ray.t_min && h.t < object_ray.t_max ? h.t : static_cast<double>(t), index, h.b1, h.b2, 0,
-              triangle, vertices};
+              triangle, to_vertices(vertices)};
     return true;
   }
   Ray ray = object_ray;
@@ -35,7 +35,7 @@ bool intersect_mesh(const Mesh& mesh, const MeshBvh* bvh, uint32_t index, const 
     const Triangle vertices = mesh_triangle(mesh, t);
     const auto h = intersect_triangle(vertices, ray);
     if (!h) continue;
-    hit = Hit{h->t, index, h->b1, h->b2, 0, t, vertices};
+    hit = Hit{h->t, index, h->b1, h->b2, 0, t, to_vertices(vertices)};
     ray.t_max = h->t;
     found = true;
   }
@@ -108,7 +108,7 @@ Hit refine_mesh_hit(const Scene& scene, uint32_t object, uint32_t triangle, cons
   const Ray ray = to_object_space(scene, o, world_ray);
   const Triangle tri = mesh_triangle(scene.meshes[o.shape], triangle);
   const TriangleHit h = triangle_plane_hit(tri, ray);
-  return Hit{h.t, object, h.b1, h.b2, 0, triangle, tri};
+  return Hit{h.t, object, h.b1, h.b2, 0, triangle, to_vertices(tri)};
 }
 
 bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, const std::vector<MeshBvh>* mesh_bvhs) {
@@ -213,7 +213,7 @@ class BvhAccelerator final : public Accelerator {
       const Triangle vertices = block_triangle(mesh_bvh.blocks[packet.slot[i] / 4], packet.slot[i] % 4);
       const TriangleHit h = triangle_plane_hit(vertices, r);
       const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(packet.t_max[i]);
-      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i], vertices};
+      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i], to_vertices(vertices)};
     }
   }
 

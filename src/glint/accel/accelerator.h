@@ -3,6 +3,7 @@
 // answers them; other backends (Embree) plug in behind the same interface.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -19,11 +20,15 @@ struct Hit {
   double b1 = 0, b2 = 0;  // triangle barycentrics
   int face = 0;           // box face
   uint32_t primitive = 0; // mesh objects: the triangle
-  // Mesh objects: that triangle's vertices in the mesh's space, copied where
-  // the traversal had them in cache. Shading reading them again through the
-  // mesh's index and vertex arrays missed the cache on big meshes.
-  Triangle vertices{};
+  // Mesh objects: that triangle's vertices in the mesh's space (floats, as
+  // meshes store them), copied where the traversal had them in cache.
+  // Shading reading them again through the mesh's index and vertex arrays
+  // missed the cache on big meshes.
+  std::array<Vec3f, 3> vertices{};
 };
+
+inline std::array<Vec3f, 3> to_vertices(const Triangle& t) { return {to_vec3f(t.v0), to_vec3f(t.v1), to_vec3f(t.v2)}; }
+inline Triangle to_triangle(const std::array<Vec3f, 3>& v) { return {to_vec3(v[0]), to_vec3(v[1]), to_vec3(v[2])}; }
 
 struct MeshBvh;
 

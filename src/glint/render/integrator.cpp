@@ -54,7 +54,7 @@ SurfacePoint evaluate_geometry(const Scene& scene, const Ray& ray, const Hit& hi
     }
     case ShapeType::mesh: {
       const Mesh& mesh = scene.meshes[object.shape];
-      const Triangle& t = hit.vertices;
+      const Triangle t = to_triangle(hit.vertices);
       const Vec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0;
       const Vec3 p_obj = t.v0 + hit.b1 * e1 + hit.b2 * e2;
       Vec3 ng = cross(e1, e2);
