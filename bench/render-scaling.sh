@@ -5,8 +5,8 @@
 # Renders ../shared/bench's terrain scene (height field + reflective plane,
 # 1280x720, 1 spp: camera, shadow and mirror rays) made with each triangle
 # count, and reports the render part of `glint render` (loading and building
-# excluded) as Mrays/s, best of REPEAT, and the time per ray relative to the
-# smallest mesh, in the same run. Scenes are generated once into
+# excluded) as Mrays/s, best of REPEAT (the sizes take turns), and the time
+# per ray relative to the smallest mesh, in the same run. Scenes are generated once into
 # $GLINT_SCALING_DIR (default /tmp/glint-scaling); 10M triangles is a 380 MB
 # OBJ and needs ~4 GB of memory to load and build.
 set -euo pipefail
@@ -29,28 +29,32 @@ for n in "${sizes[@]}"; do
   fi
 done
 
-# Best Mrays/s of the render part over REPEAT runs, from the stats line
+# Mrays/s of the render part of one run, from the stats line
 # ("... render 0.52 s (total ...); rays: ...; 3.89 Mrays/s").
-best_rate() {
-  local scene=$1 t=$2 best=0 line rate
-  for ((i = 0; i < REPEAT; ++i)); do
-    line=$("$GLINT" render "$scene" -o "$DIR/out.png" --threads "$t" 2>&1 | grep ' Mrays/s')
-    rate=$(sed -E 's/.* ([0-9.]+) Mrays\/s.*/\1/' <<<"$line")
-    best=$(awk -v a="$best" -v b="$rate" 'BEGIN { print (b > a ? b : a) }')
-  done
-  echo "$best"
+rate_of_run() {
+  "$GLINT" render "$1" -o "$DIR/out.png" --threads "$2" 2>&1 | grep ' Mrays/s' |
+    sed -E 's/.* ([0-9.]+) Mrays\/s.*/\1/'
 }
+
+# The sizes take turns within each repetition, so that a slow spell of this
+# shared machine falls on all of them alike; the best of REPEAT is kept.
+declare -A best
+for ((r = 0; r < REPEAT; ++r)); do
+  for t in "${threads[@]}"; do
+    for n in "${sizes[@]}"; do
+      rate=$(rate_of_run "$DIR/$n/terrain.json" "$t")
+      best[$n,$t]=$(awk -v a="${best[$n,$t]:-0}" -v b="$rate" 'BEGIN { print (b > a ? b : a) }')
+    done
+  done
+done
 
 printf '%-12s' "triangles"
 for t in "${threads[@]}"; do printf ' | %2sT Mrays/s  per ray' "$t"; done
 printf '\n'
-declare -A first
 for n in "${sizes[@]}"; do
   printf '%-12s' "$n"
   for t in "${threads[@]}"; do
-    rate=$(best_rate "$DIR/$n/terrain.json" "$t")
-    [ -n "${first[$t]:-}" ] || first[$t]=$rate
-    printf ' | %12s  %6.2fx' "$rate" "$(awk -v a="${first[$t]}" -v b="$rate" 'BEGIN { print a / b }')"
+    printf ' | %12s  %6.2fx' "${best[$n,$t]}" "$(awk -v a="${best[${sizes[0]},$t]}" -v b="${best[$n,$t]}" 'BEGIN { print a / b }')"
   done
   printf '\n'
 done
