@@ -1896,11 +1896,13 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
     if (u.substr(0, 5) != "data:" && length && length->is_number()) {
       const fs::path bin = fs::path(file).parent_path() / std::string(u);
       std::error_code ec;
-      const auto size = fs::is_regular_file(bin, ec) ? fs::file_size(bin, ec) : 0;
-      if (!ec && fs::is_regular_file(bin, ec) && double(size) < length->as_number())
-        throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " +
-                                        format_count(length->as_number()) + " bytes, but '" + std::string(u) +
-                                        "' holds " + std::to_string(size));
+      if (fs::is_regular_file(bin, ec)) {
+        const auto size = fs::file_size(bin, ec);
+        if (!ec && double(size) < length->as_number())
+          throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " +
+                                          format_count(length->as_number()) + " bytes, but '" + std::string(u) +
+                                          "' holds " + std::to_string(size));
+      }
     }
   }
   const auto meshes = root.find("meshes");
