@@ -20,13 +20,13 @@ bool intersect_mesh(const Mesh& mesh, const MeshBvh* bvh, uint32_t index, const 
   if (bvh) {
     uint32_t triangle = 0;
     float t = 0;
-    Triangle vertices;
+    TriangleVertices vertices;
     if (!intersect_mesh_bvh(*bvh, object_ray, triangle, t, vertices)) return false;
-    const TriangleHit h = triangle_plane_hit(vertices, object_ray);
+    const TriangleHit h = triangle_plane_hit(to_triangle(vertices), object_ray);
     // The double crossing of a float hit can fall just outside the interval
     // (grazing rays, hits at t_min): the float distance stands then.
     hit = Hit{h.t > object_ray.t_min && h.t < object_ray.t_max ? h.t : static_cast<double>(t), index, h.b1, h.b2, 0,
-              triangle, to_vertices(vertices)};
+              triangle, vertices};
     return true;
   }
   Ray ray = object_ray;
@@ -210,10 +210,10 @@ class BvhAccelerator final : public Accelerator {
       if (packet.triangle[i] == kNoTriangle) continue;
       const Ray& r = object_rays[i];
       // The vertices from the block the kernel just read, as intersect_mesh does.
-      const Triangle vertices = block_triangle(mesh_bvh.blocks[packet.slot[i] / 4], packet.slot[i] % 4);
-      const TriangleHit h = triangle_plane_hit(vertices, r);
+      const TriangleVertices vertices = block_triangle(mesh_bvh.blocks[packet.slot[i] / 4], packet.slot[i] % 4);
+      const TriangleHit h = triangle_plane_hit(to_triangle(vertices), r);
       const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(packet.t_max[i]);
-      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i], to_vertices(vertices)};
+      hits[i] = Hit{t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i], vertices};
     }
   }
 

@@ -13,6 +13,9 @@
 
 namespace glint {
 
+// A mesh triangle's vertices as the mesh stores them (floats).
+using TriangleVertices = std::array<Vec3f, 3>;
+
 // What traversal finds: enough to shade later, nothing more.
 struct Hit {
   double t = kInfinity;
@@ -24,11 +27,11 @@ struct Hit {
   // meshes store them), copied where the traversal had them in cache.
   // Shading reading them again through the mesh's index and vertex arrays
   // missed the cache on big meshes.
-  std::array<Vec3f, 3> vertices{};
+  TriangleVertices vertices{};
 };
 
-inline std::array<Vec3f, 3> to_vertices(const Triangle& t) { return {to_vec3f(t.v0), to_vec3f(t.v1), to_vec3f(t.v2)}; }
-inline Triangle to_triangle(const std::array<Vec3f, 3>& v) { return {to_vec3(v[0]), to_vec3(v[1]), to_vec3(v[2])}; }
+inline TriangleVertices to_vertices(const Triangle& t) { return {to_vec3f(t.v0), to_vec3f(t.v1), to_vec3f(t.v2)}; }
+inline Triangle to_triangle(const TriangleVertices& v) { return {to_vec3(v[0]), to_vec3(v[1]), to_vec3(v[2])}; }
 
 struct MeshBvh;
 

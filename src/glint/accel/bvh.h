@@ -33,6 +33,9 @@ inline FloatLanes lanes_min(FloatLanes a, FloatLanes b) { return _mm256_min_ps(a
 inline int lanes_le_mask(FloatLanes a, FloatLanes b) { return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ)); }
 // b where `select` is all ones, else a (`select` lanes are all ones or zero).
 inline FloatLanes lanes_blend(FloatLanes a, FloatLanes b, FloatLanes select) { return _mm256_blendv_ps(a, b, select); }
+#if defined(__FMA__)
+inline FloatLanes lanes_fmsub(FloatLanes a, FloatLanes b, FloatLanes c) { return _mm256_fmsub_ps(a, b, c); }
+#endif
 #else
 inline constexpr int kBvhWidth = 4;
 using FloatLanes = __m128;
@@ -51,7 +54,21 @@ inline FloatLanes lanes_blend(FloatLanes a, FloatLanes b, FloatLanes select) {
   return _mm_or_ps(_mm_and_ps(select, b), _mm_andnot_ps(select, a));
 #endif
 }
+#if defined(__FMA__)
+inline FloatLanes lanes_fmsub(FloatLanes a, FloatLanes b, FloatLanes c) { return _mm_fmsub_ps(a, b, c); }
 #endif
+#endif
+
+// The float inverse of a direction component for the slab test. A zero (or
+// tiny) component gives +-2^100 rather than infinity: infinity times the
+// origin would make inf - inf = NaN in the fused form. 2^100 is a power of
+// two, so plane * inverse stays exact, and the slab distances of a parallel
+// ray still cull as infinity did (they are +-2^100 times the offset).
+inline float slab_inverse(double direction) {
+  const float inv = static_cast<float>(1.0 / direction);
+  constexpr float kLimit = 0x1p100f;
+  return std::abs(inv) <= kLimit ? inv : std::copysign(kLimit, inv);
+}
 
 // kBvhWidth child boxes in SoA layout (bounds[axis*2 + 0/1][child] = lo/hi).
 // child[i] is a node index when count[i] == 0, else the first primitive of
@@ -87,20 +104,37 @@ Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options = 
 // Per-ray constants for the wide slab test.
 struct RaySlabs {
   FloatLanes origin[3], inv_dir[3];
+  // origin * inv_dir, so a slab distance (plane - origin) * inv_dir is one
+  // fused multiply-subtract, plane * inv_dir - origin * inv_dir: three
+  // cycles less on the chain from a node's load to its children's.
+  FloatLanes origin_scaled[3];
   // All bits set where the direction is negative on that axis (the near
   // plane is then the box's hi side): a blend picks the planes, which keeps
   // the general-purpose registers free for the traversal.
   FloatLanes negative[3];
   explicit RaySlabs(const Ray& ray) {
     for (int a = 0; a < 3; ++a) {
-      const float inv = static_cast<float>(1.0 / ray.direction[a]);
+      const float inv = slab_inverse(ray.direction[a]);
       origin[a] = lanes_set1(static_cast<float>(ray.origin[a]));
       inv_dir[a] = lanes_set1(inv);
-      // From the inverse, so a direction of -0.0 (inverse -inf) counts as negative.
+      origin_scaled[a] = lanes_set1(static_cast<float>(ray.origin[a]) * inv);
+      // From the inverse, so a direction of -0.0 counts as negative.
       negative[a] = lanes_set1(std::bit_cast<float>(std::signbit(inv) ? ~0u : 0u));
     }
   }
 };
+
+// The slab distance of `plane`: (plane - origin) * inv_dir. With fused
+// multiply-add it is plane * inv_dir - origin * inv_dir, whose one rounding
+// of origin * inv_dir moves the plane by at most an ulp of the origin, as the
+// subtraction's rounding does: the boxes' padding (build_bvh) covers both.
+inline FloatLanes slab_distance(FloatLanes plane, const RaySlabs& r, int a) {
+#if defined(__FMA__)
+  return lanes_fmsub(plane, r.inv_dir[a], r.origin_scaled[a]);
+#else
+  return lanes_mul(lanes_sub(plane, r.origin[a]), r.inv_dir[a]);
+#endif
+}
 
 // Bit i set when the ray overlaps child i within (t_min, t_max); `t_near`
 // gets the entry distances.
@@ -110,10 +144,10 @@ inline int hit_children(const BvhNode& n, const RaySlabs& r, FloatLanes t_min, f
     const FloatLanes lo = lanes_load(n.bounds[2 * a]), hi = lanes_load(n.bounds[2 * a + 1]);
     const FloatLanes near_plane = lanes_blend(lo, hi, r.negative[a]);
     const FloatLanes far_plane = lanes_blend(hi, lo, r.negative[a]);
-    const FloatLanes t0 = lanes_mul(lanes_sub(near_plane, r.origin[a]), r.inv_dir[a]);
-    const FloatLanes t1 = lanes_mul(lanes_sub(far_plane, r.origin[a]), r.inv_dir[a]);
-    // max/min return the second operand when one is NaN (origin on a slab
-    // of a parallel ray): the running interval wins, keeping the box.
+    const FloatLanes t0 = slab_distance(near_plane, r, a);
+    const FloatLanes t1 = slab_distance(far_plane, r, a);
+    // max/min return the second operand when one is NaN (an overflow): the
+    // running interval wins, keeping the box.
     lo_t = lanes_max(t0, lo_t);
     hi_t = lanes_min(t1, hi_t);
   }

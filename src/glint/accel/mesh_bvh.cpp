@@ -145,13 +145,13 @@ constexpr uint32_t kNoHitId = 0x7fffffff;
 
 }  // namespace
 
-Triangle block_triangle(const Triangle4& b, int lane) {
-  return {Vec3(b.v[0][0][lane], b.v[0][1][lane], b.v[0][2][lane]),
-          Vec3(b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]),
-          Vec3(b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane])};
+TriangleVertices block_triangle(const Triangle4& b, int lane) {
+  return {Vec3f{b.v[0][0][lane], b.v[0][1][lane], b.v[0][2][lane]},
+          Vec3f{b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]},
+          Vec3f{b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane]}};
 }
 
-bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, float& t_hit, Triangle& vertices) {
+bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, float& t_hit, TriangleVertices& vertices) {
   const WatertightRay4 wray(ray);
   const __m128 t_min = _mm_set1_ps(float_t_min(ray));
   Ray traversal = ray;
@@ -209,7 +209,7 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
     for (int a = 0; a < 3; ++a) {
       p.origin[a][i] = static_cast<float>(r.origin[a]);
       p.direction[a][i] = static_cast<float>(r.direction[a]);
-      p.inv_direction[a][i] = static_cast<float>(1.0 / r.direction[a]);
+      p.inv_direction[a][i] = slab_inverse(r.direction[a]);
     }
     p.t_min[i] = static_cast<float>(r.t_min);
     p.t_max[i] = float_toward_zero(clamp_to_float(r.t_max));  // inclusive, as intersect_mesh_bvh

@@ -48,32 +48,51 @@ struct ShearedTriangle {
   double t_scaled;    // t * det
 };
 
-ShearedTriangle shear_triangle(const Triangle& tri, const Ray& ray) {
+// Components in the shear frame's order (kx, ky, kz), with kz the axis
+// where the direction is largest: the frame is a template argument, so the
+// body is straight-line code (indexing a Vec3 by a run-time axis branched on
+// every component, a fifth of a refined hit).
+template <int kz>
+struct ShearAxes {
+  static constexpr int kx = kz == 2 ? 0 : kz + 1;
+  static constexpr int ky = kx == 2 ? 0 : kx + 1;
+  static double x(const Vec3& v) { return component(v, kx); }
+  static double y(const Vec3& v) { return component(v, ky); }
+  static double z(const Vec3& v) { return component(v, kz); }
+  static constexpr double component(const Vec3& v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+};
+
+template <int kz>
+ShearedTriangle shear_triangle_in(const Triangle& tri, const Ray& ray) {
+  using A = ShearAxes<kz>;
   const Vec3& d = ray.direction;
-  const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
-  const int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-  const int kx = kz == 2 ? 0 : kz + 1;
-  const int ky = kx == 2 ? 0 : kx + 1;
   // One division: the shear must be the same for every triangle a ray
   // meets (that is what closes the cracks), not correctly rounded.
-  const double sz = 1.0 / d[kz], sx = -d[kx] * sz, sy = -d[ky] * sz;
+  const double sz = 1.0 / A::z(d), sx = -A::x(d) * sz, sy = -A::y(d) * sz;
   const Vec3 a = tri.v0 - ray.origin, b = tri.v1 - ray.origin, c = tri.v2 - ray.origin;
-  const double ax2 = a[kx] + sx * a[kz], ay2 = a[ky] + sy * a[kz];
-  const double bx2 = b[kx] + sx * b[kz], by2 = b[ky] + sy * b[kz];
-  const double cx2 = c[kx] + sx * c[kz], cy2 = c[ky] + sy * c[kz];
+  const double ax2 = A::x(a) + sx * A::z(a), ay2 = A::y(a) + sy * A::z(a);
+  const double bx2 = A::x(b) + sx * A::z(b), by2 = A::y(b) + sy * A::z(b);
+  const double cx2 = A::x(c) + sx * A::z(c), cy2 = A::y(c) + sy * A::z(c);
   ShearedTriangle s;
   s.e0 = bx2 * cy2 - by2 * cx2;
   s.e1 = cx2 * ay2 - cy2 * ax2;
   s.e2 = ax2 * by2 - ay2 * bx2;
-  if (s.e0 == 0.0 || s.e1 == 0.0 || s.e2 == 0.0) {
+  if (s.e0 == 0.0 || s.e1 == 0.0 || s.e2 == 0.0) [[unlikely]] {
     using L = long double;
     s.e0 = static_cast<double>(L(bx2) * L(cy2) - L(by2) * L(cx2));
     s.e1 = static_cast<double>(L(cx2) * L(ay2) - L(cy2) * L(ax2));
     s.e2 = static_cast<double>(L(ax2) * L(by2) - L(ay2) * L(bx2));
   }
   s.det = s.e0 + s.e1 + s.e2;
-  s.t_scaled = (s.e0 * a[kz] + s.e1 * b[kz] + s.e2 * c[kz]) * sz;
+  s.t_scaled = (s.e0 * A::z(a) + s.e1 * A::z(b) + s.e2 * A::z(c)) * sz;
   return s;
+}
+
+ShearedTriangle shear_triangle(const Triangle& tri, const Ray& ray) {
+  const Vec3& d = ray.direction;
+  const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+  if (ax > ay) return ax > az ? shear_triangle_in<0>(tri, ray) : shear_triangle_in<2>(tri, ray);
+  return ay > az ? shear_triangle_in<1>(tri, ray) : shear_triangle_in<2>(tri, ray);
 }
 
 }  // namespace
