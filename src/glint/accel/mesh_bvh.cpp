@@ -206,15 +206,22 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
   p.count = count;
   for (int i = 0; i < kPacketSize; ++i) {
     const Ray& r = rays[i < count ? i : 0];  // unused lanes repeat ray 0
-    for (int a = 0; a < 3; ++a) {
-      p.origin[a][i] = static_cast<float>(r.origin[a]);
-      p.direction[a][i] = static_cast<float>(r.direction[a]);
-      p.inv_direction[a][i] = slab_inverse(r.direction[a]);
-    }
+    p.origin[0][i] = static_cast<float>(r.origin.x);
+    p.origin[1][i] = static_cast<float>(r.origin.y);
+    p.origin[2][i] = static_cast<float>(r.origin.z);
+    p.direction[0][i] = static_cast<float>(r.direction.x);
+    p.direction[1][i] = static_cast<float>(r.direction.y);
+    p.direction[2][i] = static_cast<float>(r.direction.z);
     p.t_min[i] = static_cast<float>(r.t_min);
     p.t_max[i] = float_toward_zero(clamp_to_float(r.t_max));  // inclusive, as intersect_mesh_bvh
     p.triangle[i] = kNoTriangle;
   }
+  // In float, a row at a time (vectorized): the box tests only need the
+  // inverse within an ulp or two (the boxes' padding covers it). Clamped as
+  // slab_inverse does.
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < kPacketSize; ++i)
+      p.inv_direction[a][i] = std::clamp(1.0f / p.direction[a][i], -0x1p100f, 0x1p100f);
   return p;
 }
 
