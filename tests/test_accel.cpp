@@ -207,6 +207,58 @@ TEST(MeshBvh, SameClosestHitsAsBruteForceOnRandomRays) {
   EXPECT_EQ(mismatches, 0);
 }
 
+TEST(MeshBvh, AxisParallelRaysMatchBruteForce) {
+  // Axis-aligned cubes on a lattice, and rays along the axes (two direction
+  // components zero, of either sign) from points on the cubes' face planes,
+  // their edges and between them: the slab test's parallel-ray cases, where a
+  // zero direction gives an inverse of +-2^100 and the origin may sit on a
+  // box's plane.
+  Mesh cubes;
+  cubes.file = "cubes";
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const auto base = static_cast<uint32_t>(cubes.positions.size());
+        for (int c = 0; c < 8; ++c)
+          cubes.positions.push_back(Vec3f{static_cast<float>(i + (c & 1)), static_cast<float>(j + (c >> 1 & 1)),
+                                          static_cast<float>(k + (c >> 2 & 1))});
+        // Two triangles per face of the unit cube at (i, j, k); corner c has bits x, y, z.
+        const uint32_t faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+        for (const auto& f : faces)
+          for (const uint32_t v : {f[0], f[1], f[2], f[0], f[2], f[3]}) cubes.indices.push_back(base + v);
+      }
+  cubes.triangle_material.assign(cubes.triangle_count(), 0);
+  Scene scene;
+  add_mesh_object(scene, add_mesh(scene, std::move(cubes)), 0, false);
+  const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
+  const auto brute = build_brute_force(scene);
+  const double zero = 0.0;
+  const Vec3 directions[] = {{1, zero, zero}, {-1, zero, -zero}, {-zero, 1, zero}, {zero, -1, -zero},
+                             {zero, -zero, 1}, {-zero, zero, -1}};
+  const double coords[] = {-0.5, 0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 3.5};
+  int rays = 0, hits = 0;
+  for (const Vec3& d : directions)
+    for (const double a : coords)
+      for (const double b : coords)
+        for (const double start : {-1.0, 0.0, 1.0, 1.5, 4.0}) {
+          // Along the axis where d is non-zero from `start`, at (a, b) on the others.
+          const int axis = d.x != 0 ? 0 : (d.y != 0 ? 1 : 2);
+          Vec3 o;
+          o[axis] = start;
+          o[(axis + 1) % 3] = a;
+          o[(axis + 2) % 3] = b;
+          const Ray r = make_ray(o, d);
+          const auto got = bvh->intersect(r), want = brute->intersect(r);
+          ++rays;
+          ASSERT_EQ(got.has_value(), want.has_value()) << "o " << o.x << " " << o.y << " " << o.z << " axis " << axis;
+          EXPECT_EQ(bvh->occluded(r), want.has_value());
+          if (!got) continue;
+          ++hits;
+          EXPECT_EQ(got->t, want->t);
+        }
+  EXPECT_GT(hits, rays / 4);
+}
+
 // --- packets ----------------------------------------------------------------
 
 TEST(Packets, SameHitsAsSingleRays) {
