@@ -517,7 +517,7 @@ int main(int argc, char** argv) {
         }
         std::printf("\n");
       }
-      std::printf("(build and bytes: lower is better; rays: higher; cam-pkt: our 8-ray packets / Embree 16-ray packets)\n");
+      std::printf("(build and bytes: lower is better; rays: higher; cam-pkt: 16-ray packets, ours / Embree)\n");
     }
     std::printf("\n");
     std::fflush(stdout);

@@ -36,7 +36,7 @@ inline Triangle to_triangle(const TriangleVertices& v) { return {to_vec3(v[0]), 
 struct MeshBvh;
 
 // Rays per packet (Accelerator::intersect_packet).
-inline constexpr int kPacketSize = 8;
+inline constexpr int kPacketSize = 16;
 
 // A mesh triangle in the mesh's own space, as doubles.
 Triangle mesh_triangle(const Mesh& mesh, uint32_t triangle);

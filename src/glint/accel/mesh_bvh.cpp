@@ -229,10 +229,102 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
 
 namespace {
 
+// The packet's 16 rays as SIMD lanes: one AVX-512 register where the CPU
+// has them, else two AVX halves. Masks are AVX-512 mask registers or AVX
+// vectors of all-ones lanes; `bits` gives them as an integer, bit i for ray i.
+#if defined(__AVX512F__)
+struct F16 { __m512 v; };
+struct I16 { __m512i v; };
+using M16 = __mmask16;
+inline F16 load16(const float* p) { return {_mm512_load_ps(p)}; }
+inline void store16(float* p, F16 a) { _mm512_store_ps(p, a.v); }
+inline F16 splat16(float x) { return {_mm512_set1_ps(x)}; }
+inline F16 operator+(F16 a, F16 b) { return {_mm512_add_ps(a.v, b.v)}; }
+inline F16 operator-(F16 a, F16 b) { return {_mm512_sub_ps(a.v, b.v)}; }
+inline F16 operator*(F16 a, F16 b) { return {_mm512_mul_ps(a.v, b.v)}; }
+inline F16 operator/(F16 a, F16 b) { return {_mm512_div_ps(a.v, b.v)}; }
+inline F16 min16(F16 a, F16 b) { return {_mm512_min_ps(a.v, b.v)}; }
+inline F16 max16(F16 a, F16 b) { return {_mm512_max_ps(a.v, b.v)}; }
+template <int kCmp>
+inline M16 compare16(F16 a, F16 b) { return _mm512_cmp_ps_mask(a.v, b.v, kCmp); }
+inline M16 and16(M16 a, M16 b) { return a & b; }
+inline M16 or16(M16 a, M16 b) { return a | b; }
+inline M16 andnot16(M16 a, M16 b) { return static_cast<M16>(~a & b); }  // b and not a
+inline int bits16(M16 m) { return m; }
+inline M16 mask16(int bits) { return static_cast<M16>(bits); }
+inline F16 select16(M16 m, F16 yes, F16 no) { return {_mm512_mask_blend_ps(m, no.v, yes.v)}; }
+inline I16 splat16i(uint32_t x) { return {_mm512_set1_epi32(static_cast<int>(x))}; }
+inline I16 select16(M16 m, I16 yes, I16 no) { return {_mm512_mask_blend_epi32(m, no.v, yes.v)}; }
+inline M16 greater16(I16 a, I16 b) { return _mm512_cmpgt_epi32_mask(a.v, b.v); }
+inline I16 load16(const uint32_t* p) { return {_mm512_load_si512(p)}; }
+inline void store16(uint32_t* p, I16 a) { _mm512_store_si512(p, a.v); }
+inline float max_lane(F16 a) { return _mm512_reduce_max_ps(a.v); }
+inline float min_lane(F16 a) { return _mm512_reduce_min_ps(a.v); }
+#else
+struct F16 { __m256 lo, hi; };
+struct I16 { __m256i lo, hi; };
+using M16 = F16;
+inline F16 load16(const float* p) { return {_mm256_load_ps(p), _mm256_load_ps(p + 8)}; }
+inline void store16(float* p, F16 a) { _mm256_store_ps(p, a.lo); _mm256_store_ps(p + 8, a.hi); }
+inline F16 splat16(float x) { return {_mm256_set1_ps(x), _mm256_set1_ps(x)}; }
+inline F16 operator+(F16 a, F16 b) { return {_mm256_add_ps(a.lo, b.lo), _mm256_add_ps(a.hi, b.hi)}; }
+inline F16 operator-(F16 a, F16 b) { return {_mm256_sub_ps(a.lo, b.lo), _mm256_sub_ps(a.hi, b.hi)}; }
+inline F16 operator*(F16 a, F16 b) { return {_mm256_mul_ps(a.lo, b.lo), _mm256_mul_ps(a.hi, b.hi)}; }
+inline F16 operator/(F16 a, F16 b) { return {_mm256_div_ps(a.lo, b.lo), _mm256_div_ps(a.hi, b.hi)}; }
+inline F16 min16(F16 a, F16 b) { return {_mm256_min_ps(a.lo, b.lo), _mm256_min_ps(a.hi, b.hi)}; }
+inline F16 max16(F16 a, F16 b) { return {_mm256_max_ps(a.lo, b.lo), _mm256_max_ps(a.hi, b.hi)}; }
+template <int kCmp>
+inline M16 compare16(F16 a, F16 b) { return {_mm256_cmp_ps(a.lo, b.lo, kCmp), _mm256_cmp_ps(a.hi, b.hi, kCmp)}; }
+inline M16 and16(M16 a, M16 b) { return {_mm256_and_ps(a.lo, b.lo), _mm256_and_ps(a.hi, b.hi)}; }
+inline M16 or16(M16 a, M16 b) { return {_mm256_or_ps(a.lo, b.lo), _mm256_or_ps(a.hi, b.hi)}; }
+inline M16 andnot16(M16 a, M16 b) { return {_mm256_andnot_ps(a.lo, b.lo), _mm256_andnot_ps(a.hi, b.hi)}; }
+inline int bits16(M16 m) { return _mm256_movemask_ps(m.lo) | _mm256_movemask_ps(m.hi) << 8; }
+inline M16 mask16(int bits) {
+  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  auto half = [&](int b) {
+    const __m256i set = _mm256_and_si256(_mm256_set1_epi32(b), lane_bit);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane_bit));
+  };
+  return {half(bits & 0xff), half(bits >> 8 & 0xff)};
+}
+inline F16 select16(M16 m, F16 yes, F16 no) {
+  return {_mm256_blendv_ps(no.lo, yes.lo, m.lo), _mm256_blendv_ps(no.hi, yes.hi, m.hi)};
+}
+inline I16 splat16i(uint32_t x) { return {_mm256_set1_epi32(static_cast<int>(x)), _mm256_set1_epi32(static_cast<int>(x))}; }
+inline I16 select16(M16 m, I16 yes, I16 no) {
+  auto half = [](__m256 mask, __m256i y, __m256i n) {
+    return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(n), _mm256_castsi256_ps(y), mask));
+  };
+  return {half(m.lo, yes.lo, no.lo), half(m.hi, yes.hi, no.hi)};
+}
+inline M16 greater16(I16 a, I16 b) {
+  return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(a.lo, b.lo)), _mm256_castsi256_ps(_mm256_cmpgt_epi32(a.hi, b.hi))};
+}
+inline I16 load16(const uint32_t* p) {
+  return {_mm256_load_si256(reinterpret_cast<const __m256i*>(p)), _mm256_load_si256(reinterpret_cast<const __m256i*>(p + 8))};
+}
+inline void store16(uint32_t* p, I16 a) {
+  _mm256_store_si256(reinterpret_cast<__m256i*>(p), a.lo);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(p + 8), a.hi);
+}
+inline float max_lane(F16 a) {
+  alignas(32) float v[8];
+  _mm256_store_ps(v, _mm256_max_ps(a.lo, a.hi));
+  return *std::max_element(v, v + 8);
+}
+inline float min_lane(F16 a) {
+  alignas(32) float v[8];
+  _mm256_store_ps(v, _mm256_min_ps(a.lo, a.hi));
+  return *std::min_element(v, v + 8);
+}
+#endif
+static_assert(kPacketSize == 16, "the packet kernel's lanes are 16 rays");
+
 // A leaf reached by this many rays of a packet is tested triangle by
 // triangle against all of them at once; by fewer, ray by ray (four triangles
 // at once). On the 1M terrain of bench/ (a leaf covers about two pixels)
-// thresholds 2 to 5 measured alike, and ray by ray always 5% slower.
+// thresholds 4, 6 and 8 measured alike with 16-ray packets (2 to 5 alike
+// with 8-ray packets, and ray by ray always 5% slower).
 constexpr int kLeafRaysForSimd = 4;
 
 int dominant_axis(float x, float y, float z) {
@@ -257,22 +349,21 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   const int ky = kx == 2 ? 0 : kx + 1;
 
   // Per-lane constants, computed as the single-ray kernels compute them.
-  alignas(32) float sx[kPacketSize], sy[kPacketSize], sz[kPacketSize];
+  alignas(64) float sx[kPacketSize], sy[kPacketSize], sz[kPacketSize];
   for (int i = 0; i < kPacketSize; ++i) {
     sz[i] = 1.0f / p.direction[kz][i];
     sx[i] = -p.direction[kx][i] * sz[i];
     sy[i] = -p.direction[ky][i] * sz[i];
   }
-  __m256 origin[3];
-  for (int a = 0; a < 3; ++a) origin[a] = _mm256_load_ps(p.origin[a]);
-  const __m256 shear_x = _mm256_load_ps(sx), shear_y = _mm256_load_ps(sy), shear_z = _mm256_load_ps(sz);
+  F16 origin[3];
+  for (int a = 0; a < 3; ++a) origin[a] = load16(p.origin[a]);
+  const F16 shear_x = load16(sx), shear_y = load16(sy), shear_z = load16(sz);
   // Boxes are entered from t_min scaled down a little (bvh.h), triangles from t_min.
-  const __m256 t_min = _mm256_load_ps(p.t_min);
-  const __m256 box_t_min =
-      _mm256_sub_ps(_mm256_mul_ps(t_min, _mm256_set1_ps(1.0f - 0x1p-20f)), _mm256_set1_ps(1e-30f));
-  __m256 t_max = _mm256_load_ps(p.t_max);
-  __m256i hit_triangle = _mm256_set1_epi32(static_cast<int>(kNoHitId));
-  __m256i hit_slot = _mm256_setzero_si256();  // block * 4 + lane of the hit
+  const F16 t_min = load16(p.t_min);
+  const F16 box_t_min = t_min * splat16(1.0f - 0x1p-20f) - splat16(1e-30f);
+  F16 t_max = load16(p.t_max);
+  I16 hit_triangle = splat16i(kNoHitId);
+  I16 hit_slot = splat16i(0);  // block * 4 + lane of the hit
 
   // Nodes are tested once for the whole packet, like a single ray, with
   // interval arithmetic: per axis, the packet's origins and inverse
@@ -280,16 +371,13 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   // slab distances (float rounding is monotonic, so it holds for the rounded
   // values too). A child is entered when any ray may hit it; leaves are then
   // tested against every ray, so a ray's hits are exactly its own.
-  alignas(32) float o_lo[3], o_hi[3], inv_lo[3], inv_hi[3];
+  float o_lo[3], o_hi[3], inv_lo[3], inv_hi[3];
   for (int a = 0; a < 3; ++a) {
-    o_lo[a] = o_hi[a] = p.origin[a][0];
-    inv_lo[a] = inv_hi[a] = p.inv_direction[a][0];
-    for (int i = 1; i < kPacketSize; ++i) {
-      o_lo[a] = std::min(o_lo[a], p.origin[a][i]);
-      o_hi[a] = std::max(o_hi[a], p.origin[a][i]);
-      inv_lo[a] = std::min(inv_lo[a], p.inv_direction[a][i]);
-      inv_hi[a] = std::max(inv_hi[a], p.inv_direction[a][i]);
-    }
+    o_lo[a] = min_lane(origin[a]);
+    o_hi[a] = max_lane(origin[a]);
+    const F16 inv = load16(p.inv_direction[a]);
+    inv_lo[a] = min_lane(inv);
+    inv_hi[a] = max_lane(inv);
   }
   // t = (plane - o) * inv. With inv > 0 it falls as o grows: the near bound
   // takes the largest origin, the far bound the smallest; with inv < 0 the
@@ -303,82 +391,64 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
     inv_b[a] = _mm256_set1_ps(inv_hi[a]);
     near_row_mask[a] = _mm256_castsi256_ps(_mm256_set1_epi32(negative[a] ? -1 : 0));
   }
-  alignas(32) float lanes[kPacketSize];
-  _mm256_store_ps(lanes, box_t_min);
-  const __m256 node_t_min = _mm256_set1_ps(*std::min_element(lanes, lanes + kPacketSize));
+  const __m256 node_t_min = _mm256_set1_ps(min_lane(box_t_min));
   // The farthest any ray still looks (its hit, or its t_max): boxes behind it are skipped.
-  auto farthest = [&] {
-    _mm256_store_ps(lanes, t_max);
-    return *std::max_element(lanes, lanes + kPacketSize);
-  };
-  float node_t_max = farthest();
+  float node_t_max = max_lane(t_max);
   const __m256 widen = _mm256_set1_ps(1.0f + 4.0f * 0x1p-23f);
   const __m256 minus_inf = _mm256_set1_ps(-INFINITY), plus_inf = _mm256_set1_ps(INFINITY);
-  const __m256 zero = _mm256_setzero_ps();
-  const __m256i active = _mm256_cmpgt_epi32(_mm256_set1_epi32(p.count), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const int active = p.count >= kPacketSize ? (1 << kPacketSize) - 1 : (1 << p.count) - 1;
 
   // Per-ray box test of a leaf child (the packet test only says some ray may
   // hit it): the rays that do, as a bit mask.
-  __m256 inv_dir[3];
-  for (int a = 0; a < 3; ++a) inv_dir[a] = _mm256_load_ps(p.inv_direction[a]);
+  F16 inv_dir[3];
+  for (int a = 0; a < 3; ++a) inv_dir[a] = load16(p.inv_direction[a]);
+  const F16 widen16 = splat16(1.0f + 4.0f * 0x1p-23f);
   auto rays_hitting = [&](const BvhNode& n, int c) {
-    __m256 lo_t = box_t_min, hi_t = t_max;
+    F16 lo_t = box_t_min, hi_t = t_max;
     for (int a = 0; a < 3; ++a) {
-      const __m256 near_plane = _mm256_set1_ps(n.bounds[2 * a + (negative[a] ? 1 : 0)][c]);
-      const __m256 far_plane = _mm256_set1_ps(n.bounds[2 * a + (negative[a] ? 0 : 1)][c]);
-      lo_t = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near_plane, origin[a]), inv_dir[a]), lo_t);
-      hi_t = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, origin[a]), inv_dir[a]), hi_t);
+      const F16 near_plane = splat16(n.bounds[2 * a + (negative[a] ? 1 : 0)][c]);
+      const F16 far_plane = splat16(n.bounds[2 * a + (negative[a] ? 0 : 1)][c]);
+      lo_t = max16((near_plane - origin[a]) * inv_dir[a], lo_t);
+      hi_t = min16((far_plane - origin[a]) * inv_dir[a], hi_t);
     }
-    hi_t = _mm256_mul_ps(hi_t, widen);  // as hit_children does
-    return _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(lo_t, hi_t, _CMP_LE_OQ), _mm256_castsi256_ps(active)));
+    hi_t = hi_t * widen16;  // as hit_children does
+    return bits16(compare16<_CMP_LE_OQ>(lo_t, hi_t)) & active;
   };
 
   // A block against the rays in `mask`, each triangle against all of them at
   // once (worth it when many rays reach the block).
+  const F16 zero = splat16(0.0f);
   auto block_all_rays = [&](uint32_t b, int mask) {
     const Triangle4& block = m.blocks[b];
-    const __m256 in_mask = _mm256_castsi256_ps(_mm256_cmpeq_epi32(
-        _mm256_and_si256(_mm256_set1_epi32(mask), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
-        _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)));
+    const M16 in_mask = mask16(mask);
     bool hit = false;
     for (int lane = 0; lane < 4; ++lane) {
-      __m256 x[3], y[3], z[3];
+      F16 x[3], y[3], z[3];
       for (int v = 0; v < 3; ++v) {
-        z[v] = _mm256_sub_ps(_mm256_set1_ps(block.v[v][kz][lane]), origin[kz]);
-        x[v] = _mm256_add_ps(_mm256_sub_ps(_mm256_set1_ps(block.v[v][kx][lane]), origin[kx]),
-                             _mm256_mul_ps(shear_x, z[v]));
-        y[v] = _mm256_add_ps(_mm256_sub_ps(_mm256_set1_ps(block.v[v][ky][lane]), origin[ky]),
-                             _mm256_mul_ps(shear_y, z[v]));
+        z[v] = splat16(block.v[v][kz][lane]) - origin[kz];
+        x[v] = (splat16(block.v[v][kx][lane]) - origin[kx]) + shear_x * z[v];
+        y[v] = (splat16(block.v[v][ky][lane]) - origin[ky]) + shear_y * z[v];
       }
-      const __m256 e0 = _mm256_sub_ps(_mm256_mul_ps(x[1], y[2]), _mm256_mul_ps(y[1], x[2]));
-      const __m256 e1 = _mm256_sub_ps(_mm256_mul_ps(x[2], y[0]), _mm256_mul_ps(y[2], x[0]));
-      const __m256 e2 = _mm256_sub_ps(_mm256_mul_ps(x[0], y[1]), _mm256_mul_ps(y[0], x[1]));
-      const __m256 any_neg = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_LT_OQ),
-                                                       _mm256_cmp_ps(e1, zero, _CMP_LT_OQ)),
-                                          _mm256_cmp_ps(e2, zero, _CMP_LT_OQ));
-      const __m256 any_pos = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(e0, zero, _CMP_GT_OQ),
-                                                       _mm256_cmp_ps(e1, zero, _CMP_GT_OQ)),
-                                          _mm256_cmp_ps(e2, zero, _CMP_GT_OQ));
-      const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
-      const __m256 t_scaled = _mm256_mul_ps(
-          _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, z[0]), _mm256_mul_ps(e1, z[1])), _mm256_mul_ps(e2, z[2])),
-          shear_z);
-      const __m256 t = _mm256_div_ps(t_scaled, det);
-      __m256 valid = _mm256_andnot_ps(_mm256_and_ps(any_neg, any_pos), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
-      valid = _mm256_and_ps(valid, _mm256_and_ps(_mm256_cmp_ps(t, t_min, _CMP_GT_OQ),
-                                                 _mm256_cmp_ps(t, t_max, _CMP_LE_OQ)));
+      const F16 e0 = x[1] * y[2] - y[1] * x[2];
+      const F16 e1 = x[2] * y[0] - y[2] * x[0];
+      const F16 e2 = x[0] * y[1] - y[0] * x[1];
+      const M16 any_neg = or16(or16(compare16<_CMP_LT_OQ>(e0, zero), compare16<_CMP_LT_OQ>(e1, zero)),
+                               compare16<_CMP_LT_OQ>(e2, zero));
+      const M16 any_pos = or16(or16(compare16<_CMP_GT_OQ>(e0, zero), compare16<_CMP_GT_OQ>(e1, zero)),
+                               compare16<_CMP_GT_OQ>(e2, zero));
+      const F16 det = (e0 + e1) + e2;
+      const F16 t_scaled = ((e0 * z[0] + e1 * z[1]) + e2 * z[2]) * shear_z;
+      const F16 t = t_scaled / det;
+      M16 valid = andnot16(and16(any_neg, any_pos), compare16<_CMP_NEQ_UQ>(det, zero));
+      valid = and16(valid, and16(compare16<_CMP_GT_OQ>(t, t_min), compare16<_CMP_LE_OQ>(t, t_max)));
       // Nearer, or as near with a lower triangle index (as intersect_mesh_bvh).
-      const __m256i id = _mm256_set1_epi32(static_cast<int>(block.id[lane]));
-      valid = _mm256_and_ps(valid, _mm256_or_ps(_mm256_cmp_ps(t, t_max, _CMP_LT_OQ),
-                                                _mm256_castsi256_ps(_mm256_cmpgt_epi32(hit_triangle, id))));
-      valid = _mm256_and_ps(valid, in_mask);
-      if (_mm256_movemask_ps(valid)) {
-        t_max = _mm256_blendv_ps(t_max, t, valid);
-        hit_triangle = _mm256_castps_si256(
-            _mm256_blendv_ps(_mm256_castsi256_ps(hit_triangle), _mm256_castsi256_ps(id), valid));
-        hit_slot = _mm256_castps_si256(_mm256_blendv_ps(
-            _mm256_castsi256_ps(hit_slot), _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(4 * b + lane))),
-            valid));
+      const I16 id = splat16i(block.id[lane]);
+      valid = and16(valid, or16(compare16<_CMP_LT_OQ>(t, t_max), greater16(hit_triangle, id)));
+      valid = and16(valid, in_mask);
+      if (bits16(valid)) {
+        t_max = select16(valid, t, t_max);
+        hit_triangle = select16(valid, id, hit_triangle);
+        hit_slot = select16(valid, splat16i(4 * b + static_cast<uint32_t>(lane)), hit_slot);
         hit = true;
       }
     }
@@ -386,8 +456,8 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   };
 
   // A block against one ray, its four triangles at once (as intersect_mesh_bvh).
-  alignas(32) float ray_t_max[kPacketSize];
-  alignas(32) uint32_t ray_triangle[kPacketSize], ray_slot[kPacketSize];
+  alignas(64) float ray_t_max[kPacketSize];
+  alignas(64) uint32_t ray_triangle[kPacketSize], ray_slot[kPacketSize];
   auto block_one_ray = [&](uint32_t b, int i) {
     const Triangle4& block = m.blocks[b];
     const WatertightRay4 wray(p, i, kx, ky, kz, sx[i], sy[i], sz[i]);
@@ -423,18 +493,18 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
       if (__builtin_popcount(e.mask) >= kLeafRaysForSimd) {
         for (uint32_t b = e.child; b < e.child + e.count; ++b) hit |= block_all_rays(b, e.mask);
       } else {
-        _mm256_store_ps(ray_t_max, t_max);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(ray_triangle), hit_triangle);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(ray_slot), hit_slot);
+        store16(ray_t_max, t_max);
+        store16(ray_triangle, hit_triangle);
+        store16(ray_slot, hit_slot);
         for (int rays = e.mask; rays; rays &= rays - 1)
           for (uint32_t b = e.child; b < e.child + e.count; ++b) hit |= block_one_ray(b, __builtin_ctz(rays));
         if (hit) {
-          t_max = _mm256_load_ps(ray_t_max);
-          hit_triangle = _mm256_load_si256(reinterpret_cast<const __m256i*>(ray_triangle));
-          hit_slot = _mm256_load_si256(reinterpret_cast<const __m256i*>(ray_slot));
+          t_max = load16(ray_t_max);
+          hit_triangle = load16(ray_triangle);
+          hit_slot = load16(ray_slot);
         }
       }
-      if (hit) node_t_max = farthest();
+      if (hit) node_t_max = max_lane(t_max);
     } else {
       const BvhNode& n = m.bvh.nodes[e.child];
       __m256 lo_t = node_t_min, hi_t = _mm256_set1_ps(node_t_max);
@@ -487,9 +557,9 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
     }
     if (!more) break;
   }
-  _mm256_store_ps(p.t_max, t_max);
-  _mm256_storeu_si256(reinterpret_cast<__m256i*>(p.triangle), hit_triangle);
-  _mm256_storeu_si256(reinterpret_cast<__m256i*>(p.slot), hit_slot);
+  store16(p.t_max, t_max);
+  store16(p.triangle, hit_triangle);
+  store16(p.slot, hit_slot);
   for (int i = 0; i < kPacketSize; ++i)
     if (p.triangle[i] == kNoHitId) p.triangle[i] = kNoTriangle;
   return true;

@@ -48,7 +48,7 @@ bool occluded_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray);
 // for the rays whose own box test passes it. The triangle arithmetic per ray
 // is that of intersect_mesh_bvh, and ties go to the lower triangle index in
 // both, so the hits are exactly the single rays' hits.
-struct alignas(32) RayPacket {
+struct alignas(64) RayPacket {
   float origin[3][kPacketSize], direction[3][kPacketSize];
   float inv_direction[3][kPacketSize];  // 1 / direction, clamped to +-2^100 as RaySlabs does
   float t_min[kPacketSize], t_max[kPacketSize];  // t_max shrinks to each hit

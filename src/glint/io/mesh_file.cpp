@@ -463,7 +463,10 @@ void check_mtl_numbers(std::string_view t, std::string_view key, int line, int o
   }
   if (color && tokens.size() == 2) return report(tokens[1].column, std::string(key) + ": 1 or 3 numbers, not 2");
   for (const Token& tok : tokens) {
-    const std::string value = "'" + std::string(tok.text) + "'";
+    // Appended, not "'" + text + "'": GCC 12 warns falsely (-Wrestrict) on
+    // that operator+ when it inlines it without link-time optimization.
+    std::string value = "'";
+    value.append(tok.text).push_back('\'');
     if (key == "illum") {
       if (!parse_integer(tok.text)) report(tok.column, "illum " + value + " is not a whole number");
       return;

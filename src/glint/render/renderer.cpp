@@ -155,8 +155,8 @@ PixelContext make_pixel_context(const Integrator& integrator, const Scene& scene
 }
 
 // The first pass over pixels [x0, x1) of row y. One center ray per pixel:
-// the first hits of up to 8 neighbouring pixels are traced as a packet (the
-// same hits as ray by ray), then each pixel is shaded as usual.
+// the first hits of up to kPacketSize (16) neighbouring pixels are traced as
+// a packet (the same hits as ray by ray), then each pixel is shaded as usual.
 void render_first_pass_row(const PixelContext& pc, const Accelerator& accel, int y, int x0, int x1,
                            TraceContext& ctx, Image& image, PassImages* passes) {
   const int spp = pc.scene.render.samples_per_pixel;
