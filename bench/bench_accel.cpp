@@ -8,8 +8,11 @@
 //
 // "embree" is Embree called directly on one triangle mesh (rtcIntersect1 /
 // rtcOccluded1, and rtcIntersect16 packets for camera rays): the reference.
-// "glint-embree" is glint's Embree backend through the Accelerator interface
-// (instancing, double refinement), what `glint render --accel embree` uses.
+// "glint-kernel" is our mesh BVH called directly in the same way (float hits,
+// 16-ray packets): the like-for-like comparison. "glint-bvh" and
+// "glint-embree" are glint's two backends through the Accelerator interface
+// (instancing, double refinement of every hit), what `glint render --accel
+// bvh|embree` uses.
 //
 // Usage: glint_bench_accel [--sizes 100000,1000000,10000000] [--threads 1,2]
 //                          [--width 1920 --height 1080] [--repeat 3]
