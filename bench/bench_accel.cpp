@@ -239,10 +239,9 @@ Kernel mesh_bvh_kernel(const glint::Scene& scene) {
   k.closest = [bvh](const std::vector<glint::Ray>& rays, size_t b, size_t e) {
     uint64_t hits = 0;
     for (size_t i = b; i < e; ++i) {
-      uint32_t triangle;
+      uint32_t triangle, slot;
       float t;
-      glint::TriangleVertices vertices;
-      hits += glint::intersect_mesh_bvh(*bvh, rays[i], triangle, t, vertices);
+      hits += glint::intersect_mesh_bvh(*bvh, rays[i], triangle, t, slot);
     }
     return hits;
   };
@@ -260,10 +259,9 @@ Kernel mesh_bvh_kernel(const glint::Scene& scene) {
         for (int j = 0; j < n; ++j) hits += packet.triangle[j] != glint::kNoTriangle;
       } else {
         for (int j = 0; j < n; ++j) {
-          uint32_t triangle;
+          uint32_t triangle, slot;
           float t;
-          glint::TriangleVertices vertices;
-          hits += glint::intersect_mesh_bvh(*bvh, rays[i + j], triangle, t, vertices);
+          hits += glint::intersect_mesh_bvh(*bvh, rays[i + j], triangle, t, slot);
         }
       }
     }

@@ -30,11 +30,14 @@ inline void set_hit(Hit& hit, double t, uint32_t object, double b1, double b2, i
 // else every triangle in double.
 bool intersect_mesh(const Mesh& mesh, const MeshBvh* bvh, uint32_t index, const Ray& object_ray, Hit& hit) {
   if (bvh) {
-    uint32_t triangle = 0;
+    uint32_t triangle = 0, slot = 0;
     float t = 0;
-    // The vertices go straight into `hit` (left alone when nothing is hit).
-    if (!intersect_mesh_bvh(*bvh, object_ray, triangle, t, hit.vertices)) return false;
-    const TriangleHit h = triangle_plane_hit(to_triangle(hit.vertices), object_ray);
+    if (!intersect_mesh_bvh(*bvh, object_ray, triangle, t, slot)) return false;
+    // Both copies of the vertices from the leaf block (in cache, and written
+    // long ago: read back from `hit` they would wait on the stores).
+    const Triangle4& block = bvh->blocks[slot / 4];
+    const TriangleHit h = triangle_plane_hit(block_triangle(block, static_cast<int>(slot % 4)), object_ray);
+    hit.vertices = block_vertices(block, static_cast<int>(slot % 4));
     // The double crossing of a float hit can fall just outside the interval
     // (grazing rays, hits at t_min): the float distance stands then.
     set_hit(hit, h.t > object_ray.t_min && h.t < object_ray.t_max ? h.t : static_cast<double>(t), index, h.b1, h.b2, 0,
@@ -225,8 +228,10 @@ class BvhAccelerator final : public Accelerator {
       const Ray& r = object_rays[i];
       // The vertices from the block the kernel just read, as intersect_mesh does.
       Hit& hit = hits[i].emplace();
-      hit.vertices = block_triangle(mesh_bvh.blocks[packet.slot[i] / 4], packet.slot[i] % 4);
-      const TriangleHit h = triangle_plane_hit(to_triangle(hit.vertices), r);
+      const Triangle4& block = mesh_bvh.blocks[packet.slot[i] / 4];
+      const int lane = static_cast<int>(packet.slot[i] % 4);
+      const TriangleHit h = triangle_plane_hit(block_triangle(block, lane), r);
+      hit.vertices = block_vertices(block, lane);
       const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(packet.t_max[i]);
       set_hit(hit, t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i]);
     }

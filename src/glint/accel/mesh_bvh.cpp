@@ -145,13 +145,19 @@ constexpr uint32_t kNoHitId = 0x7fffffff;
 
 }  // namespace
 
-TriangleVertices block_triangle(const Triangle4& b, int lane) {
+TriangleVertices block_vertices(const Triangle4& b, int lane) {
   return {Vec3f{b.v[0][0][lane], b.v[0][1][lane], b.v[0][2][lane]},
           Vec3f{b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]},
           Vec3f{b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane]}};
 }
 
-bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, float& t_hit, TriangleVertices& vertices) {
+Triangle block_triangle(const Triangle4& b, int lane) {
+  return {Vec3(b.v[0][0][lane], b.v[0][1][lane], b.v[0][2][lane]),
+          Vec3(b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]),
+          Vec3(b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane])};
+}
+
+bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, float& t_hit, uint32_t& slot) {
   const WatertightRay4 wray(ray);
   const __m128 t_min = _mm_set1_ps(float_t_min(ray));
   Ray traversal = ray;
@@ -185,7 +191,7 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
   if (!found) return false;
   t_hit = best;
   triangle = m.blocks[best_block].id[best_lane];
-  vertices = block_triangle(m.blocks[best_block], best_lane);
+  slot = 4 * best_block + static_cast<uint32_t>(best_lane);
   return true;
 }
 

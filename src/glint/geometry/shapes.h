@@ -5,6 +5,7 @@
 
 #include <optional>
 
+#include "glint/geometry/triangle_shear.h"
 #include "glint/math/ray.h"
 #include "glint/scene/scene.h"
 
@@ -13,13 +14,11 @@ namespace glint {
 std::optional<double> intersect_sphere(const Sphere& s, const Ray& ray);
 std::optional<double> intersect_plane(const Plane& p, const Ray& ray);
 
-struct TriangleHit { double t, b1, b2; };  // barycentrics of v1 and v2
 // Watertight (Woop et al. 2013): a ray through an edge or vertex shared by
 // triangles hits at least one of them.
 std::optional<TriangleHit> intersect_triangle(const Triangle& tri, const Ray& ray);
-// The ray's crossing of the triangle's plane with its barycentrics, inside
-// the triangle or not (t = infinity when the ray runs in the plane).
-TriangleHit triangle_plane_hit(const Triangle& tri, const Ray& ray);
+// triangle_plane_hit (the plane crossing, for refining float hits) is in
+// triangle_shear.h.
 
 struct BoxHit { double t; int face; };  // face = 2*axis + (1 if the max side)
 std::optional<BoxHit> intersect_box(const Box& box, const Ray& ray);
