@@ -299,6 +299,49 @@ TEST(MeshBvh, AxisParallelRaysMatchBruteForce) {
   EXPECT_GT(hits, rays / 4);
 }
 
+TEST(MeshBvh, HugeOriginsWithAxisParallelRays) {
+  // Far from the world's origin, a ray with zero direction components: their
+  // inverse is 2^100, and origin * inverse overflows a float beyond 2^28.
+  // The fused slab distances would all be infinities of one sign then, and
+  // every box was culled (found in review); such rays take the plain form.
+  for (const double cx : {1e3, 2.6e8, 2.7e8, 1e9}) {  // (at 1e12 the quad is not a quad in float)
+    Mesh quad;
+    quad.file = "quad";
+    for (const double x : {cx - 1000, cx + 1000})
+      for (const double y : {-1000.0, 1000.0})
+        quad.positions.push_back(Vec3f{static_cast<float>(x), static_cast<float>(y), 0.0f});
+    quad.indices = {0, 1, 3, 0, 3, 2};
+    quad.triangle_material.assign(2, 0);
+    // The quad alone (its own BVH is the whole tree; packets take the mesh
+    // kernel), and with two spheres beside it (the BVH over objects).
+    Scene alone, with_spheres;
+    add_mesh_object(alone, add_mesh(alone, Mesh(quad)), 0, false);
+    add_mesh_object(with_spheres, add_mesh(with_spheres, std::move(quad)), 0, false);
+    add_sphere(with_spheres, Sphere{{cx + 1500, 0, 0}, 10.0});
+    add_sphere(with_spheres, Sphere{{cx + 1600, 0, 0}, 10.0});
+    for (const Scene* scene : {&alone, &with_spheres}) {
+      const auto bvh = build_accelerator(*scene, AcceleratorOptions{1, AccelBackend::bvh});
+      const auto brute = build_brute_force(*scene);
+      for (const double dx : {0.0, -0.0, 1e-32}) {
+        for (const double x : {cx, cx + 1500.0}) {
+          const Ray r = make_ray({x, 0, 100}, {dx, 0, -1});
+          const auto want = brute->intersect(r);
+          if (!want) continue;  // no sphere in `alone`
+          const auto got = bvh->intersect(r);
+          ASSERT_TRUE(got) << cx << " " << x << " " << dx;
+          EXPECT_EQ(got->object, want->object);
+          EXPECT_NEAR(got->t, want->t, 1e-6 * want->t);
+          EXPECT_TRUE(bvh->occluded(r)) << cx << " " << x << " " << dx;
+        }
+        const Ray rays[2] = {make_ray({cx, 0, 100}, {dx, 0, -1}), make_ray({cx + 1, 0, 100}, {dx, 0, -1})};
+        std::optional<Hit> got[2];
+        bvh->intersect_packet(rays, 2, got);
+        EXPECT_TRUE(got[0] && got[1]) << cx;
+      }
+    }
+  }
+}
+
 // --- packets ----------------------------------------------------------------
 
 TEST(Packets, SameHitsAsSingleRays) {

@@ -108,6 +108,11 @@ struct RaySlabs {
   // fused multiply-subtract, plane * inv_dir - origin * inv_dir: three
   // cycles less on the chain from a node's load to its children's.
   FloatLanes origin_scaled[3];
+  // False when origin * inv_dir overflows on some axis (a huge origin with a
+  // zero or tiny direction component): every fused distance would then be
+  // an infinity of one sign and cull every box, so such a ray takes the
+  // subtract-then-multiply form.
+  bool fused = true;
   // All bits set where the direction is negative on that axis (the near
   // plane is then the box's hi side): a blend picks the planes, which keeps
   // the general-purpose registers free for the traversal.
@@ -117,37 +122,48 @@ struct RaySlabs {
       const float inv = slab_inverse(ray.direction[a]);
       origin[a] = lanes_set1(static_cast<float>(ray.origin[a]));
       inv_dir[a] = lanes_set1(inv);
-      origin_scaled[a] = lanes_set1(static_cast<float>(ray.origin[a]) * inv);
+      const float scaled = static_cast<float>(ray.origin[a]) * inv;
+      origin_scaled[a] = lanes_set1(scaled);
+      fused = fused && std::isfinite(scaled);
       // From the inverse, so a direction of -0.0 counts as negative.
       negative[a] = lanes_set1(std::bit_cast<float>(std::signbit(inv) ? ~0u : 0u));
     }
   }
 };
 
-// The slab distance of `plane`: (plane - origin) * inv_dir. With fused
-// multiply-add it is plane * inv_dir - origin * inv_dir, whose one rounding
-// of origin * inv_dir moves the plane by at most an ulp of the origin, as the
-// subtraction's rounding does: the boxes' padding (build_bvh) covers both.
+#if defined(__FMA__)
+inline constexpr bool kHaveFusedSlabs = true;
+#else
+inline constexpr bool kHaveFusedSlabs = false;
+#endif
+
+// The slab distance of `plane`: (plane - origin) * inv_dir. Fused
+// (`kFused`, when the ray's RaySlabs::fused allows it) it is plane * inv_dir
+// - origin * inv_dir, whose one rounding of origin * inv_dir moves the plane
+// by at most an ulp of the origin, as the subtraction's rounding does: the
+// far side's widening in hit_children covers both (a test sees a small mesh
+// from 10^5 radii away).
+template <bool kFused>
 inline FloatLanes slab_distance(FloatLanes plane, const RaySlabs& r, int a) {
 #if defined(__FMA__)
-  return lanes_fmsub(plane, r.inv_dir[a], r.origin_scaled[a]);
-#else
-  return lanes_mul(lanes_sub(plane, r.origin[a]), r.inv_dir[a]);
+  if constexpr (kFused) return lanes_fmsub(plane, r.inv_dir[a], r.origin_scaled[a]);
 #endif
+  return lanes_mul(lanes_sub(plane, r.origin[a]), r.inv_dir[a]);
 }
 
 // Bit i set when the ray overlaps child i within (t_min, t_max); `t_near`
 // gets the entry distances.
+template <bool kFused>
 inline int hit_children(const BvhNode& n, const RaySlabs& r, FloatLanes t_min, float t_max, FloatLanes& t_near) {
   FloatLanes lo_t = t_min, hi_t = lanes_set1(t_max);
   for (int a = 0; a < 3; ++a) {
     const FloatLanes lo = lanes_load(n.bounds[2 * a]), hi = lanes_load(n.bounds[2 * a + 1]);
     const FloatLanes near_plane = lanes_blend(lo, hi, r.negative[a]);
     const FloatLanes far_plane = lanes_blend(hi, lo, r.negative[a]);
-    const FloatLanes t0 = slab_distance(near_plane, r, a);
-    const FloatLanes t1 = slab_distance(far_plane, r, a);
-    // max/min return the second operand when one is NaN (an overflow): the
-    // running interval wins, keeping the box.
+    const FloatLanes t0 = slab_distance<kFused>(near_plane, r, a);
+    const FloatLanes t1 = slab_distance<kFused>(far_plane, r, a);
+    // max/min return the second operand when one is NaN (0 * inf, inf -
+    // inf): the running interval wins, keeping the box.
     lo_t = lanes_max(t0, lo_t);
     hi_t = lanes_min(t1, hi_t);
   }
@@ -182,10 +198,9 @@ struct NoPrefetch {
   void operator()(uint32_t, uint32_t) const {}
 };
 
-template <class LeafFn, class PrefetchFn = NoPrefetch>
-bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf, PrefetchFn&& prefetch = {}) {
-  if (bvh.nodes.empty()) return false;
-  const RaySlabs slabs(ray);
+// traverse_closest_leaves for one form of the slab distances (RaySlabs::fused).
+template <bool kFused, class LeafFn, class PrefetchFn>
+bool traverse_closest_with(const Bvh& bvh, const RaySlabs& slabs, Ray& ray, LeafFn& leaf, PrefetchFn& prefetch) {
   struct Entry { uint32_t child, count; float t; };
   Entry stack[kTraversalStack];
   int top = 0;
@@ -204,7 +219,7 @@ bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf, PrefetchFn
     } else {
       const BvhNode& n = bvh.nodes[e.child];
       FloatLanes t_near;
-      int mask = hit_children(n, slabs, t_min, t_max, t_near);
+      int mask = hit_children<kFused>(n, slabs, t_min, t_max, t_near);
       if (mask) {
         alignas(32) float t[kBvhWidth];
         lanes_store(t, t_near);
@@ -263,6 +278,14 @@ bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf, PrefetchFn
   }
 }
 
+template <class LeafFn, class PrefetchFn = NoPrefetch>
+bool traverse_closest_leaves(const Bvh& bvh, Ray& ray, LeafFn&& leaf, PrefetchFn&& prefetch = {}) {
+  if (bvh.nodes.empty()) return false;
+  const RaySlabs slabs(ray);
+  if (kHaveFusedSlabs && slabs.fused) return traverse_closest_with<true>(bvh, slabs, ray, leaf, prefetch);
+  return traverse_closest_with<false>(bvh, slabs, ray, leaf, prefetch);
+}
+
 // Closest hit: `intersect(prim, ray)` returns true and shrinks ray.t_max when
 // the primitive is hit nearer than ray.t_max.
 template <class IntersectFn>
@@ -276,10 +299,9 @@ bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
 
 // Any hit over leaves: stops at the first leaf for which `leaf(first, count,
 // ray)` is true.
-template <class LeafFn, class PrefetchFn = NoPrefetch>
-bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf, PrefetchFn&& prefetch = {}) {
-  if (bvh.nodes.empty()) return false;
-  const RaySlabs slabs(ray);
+// traverse_any_leaves for one form of the slab distances (RaySlabs::fused).
+template <bool kFused, class LeafFn, class PrefetchFn>
+bool traverse_any_with(const Bvh& bvh, const RaySlabs& slabs, const Ray& ray, LeafFn& leaf, PrefetchFn& prefetch) {
   struct Entry { uint32_t child, count; };
   Entry stack[kTraversalStack];
   int top = 0;
@@ -294,7 +316,7 @@ bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf, Prefetch
     } else {
       const BvhNode& n = bvh.nodes[e.child];
       FloatLanes t_near;
-      int mask = hit_children(n, slabs, t_min, t_max, t_near);
+      int mask = hit_children<kFused>(n, slabs, t_min, t_max, t_near);
       if (mask) {
         int last = 0;
         while (mask) {
@@ -310,6 +332,14 @@ bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf, Prefetch
     if (top == 0) return false;
     e = stack[--top];
   }
+}
+
+template <class LeafFn, class PrefetchFn = NoPrefetch>
+bool traverse_any_leaves(const Bvh& bvh, const Ray& ray, LeafFn&& leaf, PrefetchFn&& prefetch = {}) {
+  if (bvh.nodes.empty()) return false;
+  const RaySlabs slabs(ray);
+  if (kHaveFusedSlabs && slabs.fused) return traverse_any_with<true>(bvh, slabs, ray, leaf, prefetch);
+  return traverse_any_with<false>(bvh, slabs, ray, leaf, prefetch);
 }
 
 // Any hit: stops at the first primitive for which `hits(prim, ray)` is true.
