@@ -219,7 +219,9 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
     p.direction[1][i] = static_cast<float>(r.direction.y);
     p.direction[2][i] = static_cast<float>(r.direction.z);
     p.t_min[i] = static_cast<float>(r.t_min);
-    p.t_max[i] = float_toward_zero(clamp_to_float(r.t_max));  // inclusive, as intersect_mesh_bvh
+    // Inclusive, as intersect_mesh_bvh. Unused lanes look nowhere, so the
+    // packet's farthest distance (which culls nodes) is that of its rays.
+    p.t_max[i] = i < count ? float_toward_zero(clamp_to_float(r.t_max)) : -INFINITY;
     p.triangle[i] = kNoTriangle;
   }
   // In float, a row at a time (vectorized): the box tests only need the
