@@ -178,6 +178,11 @@ struct Kernel {
 
 std::unique_ptr<glint::Accelerator> g_keep_ours, g_keep_embree_backend;
 
+// The mesh's own vertex and index bytes.
+double geometry_bytes(const glint::Mesh& mesh) {
+  return static_cast<double>(mesh.positions.size() * sizeof(glint::Vec3f) + mesh.indices.size() * sizeof(uint32_t));
+}
+
 Kernel accelerator_kernel(const std::string& name, const glint::Scene& scene, glint::AccelBackend backend,
                           std::unique_ptr<glint::Accelerator>& keep) {
   Kernel k;
@@ -187,10 +192,8 @@ Kernel accelerator_kernel(const std::string& name, const glint::Scene& scene, gl
   keep = glint::build_accelerator(scene, glint::AcceleratorOptions{2, backend});
   k.build_seconds = seconds_since(t0);
   const double tris = static_cast<double>(scene.meshes[0].triangle_count());
-  const glint::Mesh& mesh = scene.meshes[0];
-  const double geometry = mesh.positions.size() * sizeof(glint::Vec3f) + mesh.indices.size() * sizeof(uint32_t);
   // Embree copies the vertices and shares our index buffer (counted once).
-  k.bytes_per_triangle = (geometry + keep->memory_bytes()) / tris;
+  k.bytes_per_triangle = (geometry_bytes(scene.meshes[0]) + keep->memory_bytes()) / tris;
   k.peak_bytes_per_triangle = (peak_rss_kb() - rss0) * 1024.0 / tris;
   const glint::Accelerator* accel = keep.get();
   k.closest = [accel](const std::vector<glint::Ray>& rays, size_t b, size_t e) {
@@ -232,8 +235,7 @@ Kernel mesh_bvh_kernel(const glint::Scene& scene) {
   g_keep_kernel = std::make_unique<glint::MeshBvh>(glint::build_mesh_bvh(mesh, options));
   k.build_seconds = seconds_since(t0);
   const double tris = static_cast<double>(mesh.triangle_count());
-  const double geometry = mesh.positions.size() * sizeof(glint::Vec3f) + mesh.indices.size() * sizeof(uint32_t);
-  k.bytes_per_triangle = (geometry + g_keep_kernel->memory_bytes()) / tris;
+  k.bytes_per_triangle = (geometry_bytes(mesh) + g_keep_kernel->memory_bytes()) / tris;
   k.peak_bytes_per_triangle = (peak_rss_kb() - rss0) * 1024.0 / tris;
   const glint::MeshBvh* bvh = g_keep_kernel.get();
   k.closest = [bvh](const std::vector<glint::Ray>& rays, size_t b, size_t e) {
