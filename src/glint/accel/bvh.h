@@ -64,10 +64,10 @@ inline FloatLanes lanes_fmsub(FloatLanes a, FloatLanes b, FloatLanes c) { return
 // origin would make inf - inf = NaN in the fused form. 2^100 is a power of
 // two, so plane * inverse stays exact, and the slab distances of a parallel
 // ray still cull as infinity did (they are +-2^100 times the offset).
+inline constexpr float kSlabInverseLimit = 0x1p100f;
 inline float slab_inverse(double direction) {
   const float inv = static_cast<float>(1.0 / direction);
-  constexpr float kLimit = 0x1p100f;
-  return std::abs(inv) <= kLimit ? inv : std::copysign(kLimit, inv);
+  return std::abs(inv) <= kSlabInverseLimit ? inv : std::copysign(kSlabInverseLimit, inv);
 }
 
 // kBvhWidth child boxes in SoA layout (bounds[axis*2 + 0/1][child] = lo/hi).

@@ -229,7 +229,7 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
   // slab_inverse does.
   for (int a = 0; a < 3; ++a)
     for (int i = 0; i < kPacketSize; ++i)
-      p.inv_direction[a][i] = std::clamp(1.0f / p.direction[a][i], -0x1p100f, 0x1p100f);
+      p.inv_direction[a][i] = std::clamp(1.0f / p.direction[a][i], -kSlabInverseLimit, kSlabInverseLimit);
   return p;
 }
 
