@@ -6,7 +6,7 @@
 Renders SCENE at 160x90 to PFM (exact linear floats): a 256 spp reference,
 plain 4, 16 and 32 spp, and adaptive 4 -> 64 at threshold 0.05, then prints
 each one's RMSE over all pixels and channels (linear values) and its camera
-rays from glint's statistics line. Python 3 standard library only.
+rays (and the share of pixels refined) from glint's statistics lines. Python 3 standard library only.
 """
 import os
 import re
@@ -31,7 +31,8 @@ def render(glint, scene, out, *args):
     log = subprocess.run([glint, "render", scene, "-o", out, "--width", str(W), "--height", str(H), *args],
                          check=True, capture_output=True, text=True).stderr
     camera = re.search(r"rays: (\S+) camera", log)
-    return camera.group(1) if camera else "?"
+    refined = re.search(r"adaptive: .*\(([0-9.]+%)\)", log)
+    return (camera.group(1) if camera else "?") + (", %s of the pixels refined" % refined.group(1) if refined else "")
 
 
 def main(argv):
