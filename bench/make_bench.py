@@ -3,7 +3,7 @@
 
     python3 bench/make_bench.py [-o OUT] [--terrain-tris N] [--only spheres,bunny,terrain]
 
-Writes into OUT (default ./bench-scenes):
+Writes into OUT (default bench-scenes/ beside this script, git-ignored):
     spheres.json  spheres.pov    1000 spheres (r=0.4, 40x25 grid) on a reflective plane, 1920x1080
     bunny.json    bunny.pov      Stanford bunny (3674 tris, bunny.obj) on the plane, 1920x1080
     bunny.obj                    copy of the repository's scenes/meshes/bunny.obj (read by bunny.json)
@@ -266,7 +266,8 @@ def make_terrain(out, tris):
 
 def main(argv):
     ap = argparse.ArgumentParser(description="Write glint benchmark scenes + equivalent POV-Ray scenes.")
-    ap.add_argument("-o", "--out", default="bench-scenes", help="output folder (default ./bench-scenes)")
+    ap.add_argument("-o", "--out", default=os.path.join(HERE, "bench-scenes"),
+                    help="output folder (default: bench-scenes/ beside this script)")
     ap.add_argument("--terrain-tris", type=int, default=1000000,
                     help="target triangle count of the terrain (default 1000000 -> 999,698)")
     ap.add_argument("--only", default="spheres,bunny,terrain", help="comma list of scenes")
