@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Renders the lecture figures of scenes/figures and the showcase into docs/img/
-# (small PNGs the README shows). Needs a built glint (scripts/setup.sh) and python3.
+# (small PNGs that docs/figures.md and the README show). Needs a built glint (scripts/setup.sh) and python3.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 GLINT=${GLINT:-build/glint}
