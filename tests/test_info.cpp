@@ -14,16 +14,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct InfoRun {
   int exit_code = -1;
   std::string out;
 };
 
-Run info(const fs::path& scene) {
+InfoRun info(const fs::path& scene) {
   const fs::path out = fs::temp_directory_path() / ("glint-info-" + std::to_string(::getpid()) + ".txt");
   const std::string command =
       std::string("'") + GLINT_CLI_PATH + "' info '" + scene.string() + "' >'" + out.string() + "' 2>&1";
-  Run r;
+  InfoRun r;
   const int status = std::system(command.c_str());
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   std::ifstream in(out);
@@ -49,7 +49,7 @@ TEST(Info, CountsMeshesAndTheirTriangles) {
     {"type": "mesh", "file": ")" << cube << R"("},
     {"type": "mesh", "file": ")" << cube << R"(", "transform": {"translate": [2, 0, 0]}},
     {"type": "sphere", "center": [0, 3, 0], "radius": 1}]})";
-  const Run r = info(dir / "scene.json");
+  const InfoRun r = info(dir / "scene.json");
   fs::remove_all(dir);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   // The cube has 12 triangles; its two instances count 24.
@@ -60,7 +60,7 @@ TEST(Info, CountsMeshesAndTheirTriangles) {
 }
 
 TEST(Info, CountsTheNewShapes) {
-  const Run r = info(fs::path(GLINT_SOURCE_DIR) / "tests/schema/valid/new-shapes.json");
+  const InfoRun r = info(fs::path(GLINT_SOURCE_DIR) / "tests/schema/valid/new-shapes.json");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_EQ(line_starting(r.out, "objects"),
             "objects    6: 0 spheres, 0 planes, 0 triangles, 0 boxes, 0 meshes (0 triangles), 2 cylinders, 1 cones, "

@@ -109,7 +109,9 @@ TEST(Cylinder, RespectsTheOpenInterval) {
 TEST(Cylinder, GrazingRays) {
   Probe p = cylinder_probe(true);
   // Tangent to the side: the touching point, or nothing, never a wild t.
-  if (p.trace({{1, 1, 5}, {0, 0, -1}})) EXPECT_NEAR(p.hit->t, 5.0, 1e-6);
+  if (p.trace({{1, 1, 5}, {0, 0, -1}})) {
+    EXPECT_NEAR(p.hit->t, 5.0, 1e-6);
+  }
   EXPECT_FALSE(p.trace({{1 + 1e-9, 1, 5}, {0, 0, -1}}));
   ASSERT_TRUE(p.trace({{1 - 1e-9, 1, 5}, {0, 0, -1}}));
   EXPECT_NEAR(p.hit->t, 5.0 - std::sqrt(1 - (1 - 1e-9) * (1 - 1e-9)), 1e-12);
@@ -244,7 +246,7 @@ TEST(Disk, AnnulusAndItsNormal) {
   Probe q;
   const Vec3 n = normalize({1, 2, 3});
   add_disk(q.scene, Disk{{1, 1, 1}, n, 0.5, 0});
-  ASSERT_TRUE(q.trace({{1, 1, 1} + 4.0 * n, -n}));
+  ASSERT_TRUE(q.trace({Vec3(1, 1, 1) + 4.0 * n, -n}));
   EXPECT_NEAR(q.hit->t, 4, kTol);
   expect_vec(q.sp.geometric_normal, n, 1e-15);
 }
