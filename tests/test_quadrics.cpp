@@ -349,6 +349,25 @@ TEST(QuadricBackends, EmbreeFindsTheSameHits) {
   EXPECT_EQ(differ, 0);
 }
 
+// The figure of the new shapes (glass, shadows, caps, polygons) renders the
+// same with Embree as with our BVH: both run the same double tests.
+TEST(QuadricBackends, SameImageForTheFigure) {
+  if (!embree_available()) GTEST_SKIP() << "glint was built without Embree";
+  Scene scene = load_scene(std::string(GLINT_SOURCE_DIR) + "/scenes/figures/quadrics.json");
+  scene.render.width = 320;
+  scene.render.height = 180;
+  const auto ours = build_accelerator(scene, AcceleratorOptions{2, AccelBackend::bvh});
+  const auto embree = build_accelerator(scene, AcceleratorOptions{2, AccelBackend::embree});
+  RenderOptions options;
+  options.threads = 2;
+  const Image a = render_image(scene, *ours, options);
+  const Image b = render_image(scene, *embree, options);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  size_t differ = 0;
+  for (size_t i = 0; i < a.rgb.size(); ++i) differ += std::abs(a.rgb[i] - b.rgb[i]) > 1e-5f;
+  EXPECT_EQ(differ, 0u);
+}
+
 // u around the axis from ref_u (right-hand rule), v along it; disks and caps
 // cover the unit square of their plane frame.
 TEST(QuadricUv, AroundAndAlongTheAxis) {
