@@ -209,3 +209,67 @@ TEST(Api, VersionIsTheProjects) {
   EXPECT_STREQ(glint::version(), GLINT_VERSION_STRING);
   EXPECT_EQ(std::string(glint::version()).substr(0, 2), std::to_string(GLINT_VERSION_MAJOR) + ".");
 }
+
+// The preview of `glint serve`: another size or sample count over the same
+// accelerator gives exactly the render of the scene edited to that size.
+TEST(Api, PreviewSizeAndSamplesEqualTheEditedScene) {
+  Scene scene = Scene::from_json(kTwoSpheres);
+  scene.set("render.samples_per_pixel", 4);
+  Renderer renderer(scene);
+  glint::api::RenderOptions options;
+  options.width = 12;
+  options.height = 8;
+  options.samples_per_pixel = 1;
+  const auto preview = renderer.render(options);
+  Scene small = scene;
+  small.set("render.width", 12);
+  small.set("render.height", 8);
+  small.set("render.samples_per_pixel", 1);
+  const auto expected = glint::api::render(small);
+  ASSERT_EQ(preview.image.width, 12);
+  ASSERT_EQ(preview.image.height, 8);
+  EXPECT_EQ(preview.image.rgb, expected.image.rgb);
+  EXPECT_EQ(preview.stats.camera_rays, 12u * 8u);
+  EXPECT_EQ(preview.stats.builds, 1);
+  // The full render afterwards is untouched by the preview.
+  EXPECT_EQ(renderer.render().image.rgb, glint::api::render(scene).image.rgb);
+  options.width = 0;
+  options.height = 0;
+  options.samples_per_pixel = glint::kMaxSamplesPerPixel + 1;
+  EXPECT_THROW(renderer.render(options), glint::Error);
+}
+
+TEST(Api, EncodeImageGivesTheBytesOfTheFile) {
+  const Scene scene = Scene::from_json(kTwoSpheres);
+  glint::api::RenderOptions options;
+  options.passes = {"normal"};
+  const auto result = glint::api::render(scene, options);
+  const fs::path dir = fs::temp_directory_path() / "glint_api_encode";
+  fs::create_directories(dir);
+  auto file_bytes = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {});
+  };
+  glint::api::WriteOptions exposed;
+  exposed.exposure = 1.5;
+  exposed.tonemap = glint::api::ToneMap::aces;
+  for (const char* ext : {"png", "pfm", "ppm"}) {
+    const fs::path file = dir / (std::string("a.") + ext);
+    glint::api::write_image(result.image, file, exposed);
+    EXPECT_EQ(glint::api::encode_image(result.image, ext, exposed), file_bytes(file)) << ext;
+  }
+  // A data pass in 8 bits: n * 0.5 + 0.5 as codes, so a normal (0, 1, 0)
+  // from the floor's top reads (128, 255, 128) whatever the exposure.
+  const auto png = glint::api::encode_image(result.passes.at("normal"), ".png", exposed, "normal");
+  const fs::path normal = dir / "normal.png";
+  {
+    std::ofstream out(normal, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  }
+  const auto back = glint::api::read_image(normal);
+  const float* bottom = &back.rgb[3 * static_cast<size_t>((back.height - 1) * back.width)];
+  EXPECT_NEAR(bottom[1], 1.0f, 1e-6);
+  EXPECT_THROW(glint::api::encode_image(result.image, "gif"), glint::Error);
+  EXPECT_THROW(glint::api::encode_image(result.image, "png", {}, "shiny"), glint::Error);
+  fs::remove_all(dir);
+}
