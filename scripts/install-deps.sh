@@ -11,8 +11,11 @@ PACKAGES=(
   assimp-testmodels
   libopenmpi-dev openmpi-bin
   python3 python3-jsonschema
+  libcpp-httplib-dev chromium nodejs
   "$@"
 )
+# glint serve's browser tests need npm (Debian's npm; some nodejs builds bundle it).
+command -v npm >/dev/null || PACKAGES+=(npm)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -62,7 +62,8 @@ api::ToneMap tonemap_named(const std::string& name) {
 
 struct Frame {
   uint64_t seq = 0;
-  uint64_t version = 0;  // the session version it shows
+  uint64_t version = 0;        // the session version it shows
+  uint64_t scene_version = 0;  // and the scene version
   bool coarse = false;
   int width = 0, height = 0;
   std::vector<unsigned char> png;
@@ -129,6 +130,7 @@ class Session {
   Json state_json() const {
     Json s;
     s["version"] = version_;
+    s["scene_version"] = scene_version_;
     s["file"] = path_.filename().string();
     s["scene"] = Json::parse(scene_.to_json(-1));
     s["dirty"] = dirty_;
@@ -243,13 +245,13 @@ class Worker {
       const std::string pass = view.pass == "image" ? std::string() : view.pass;
       if (scene_version == done_scene_version && view.pass == done.pass && last_full) {
         // Only the exposure or tone map changed: encode the last values again.
-        publish_full(*last_full, version, pass, wo, 0, last_full);
+        publish_full(*last_full, version, scene_version, pass, wo, 0, last_full);
         done = view;
         continue;
       }
       set_rendering(true);
       try {
-        if (!render_version(*scene, version, pass, wo, last_full)) {
+        if (!render_version(*scene, version, scene_version, pass, wo, last_full)) {
           set_rendering(false);
           continue;  // cancelled by a newer state
         }
@@ -265,7 +267,7 @@ class Worker {
   }
 
   // Coarse, then full; false when cancelled.
-  bool render_version(const Scene& scene, uint64_t version, const std::string& pass, const api::WriteOptions& wo,
+  bool render_version(const Scene& scene, uint64_t version, uint64_t scene_version, const std::string& pass, const api::WriteOptions& wo,
                        std::shared_ptr<const api::Image>& last_full) {
     {
       std::unique_lock lock(renderer_mutex_);
@@ -291,6 +293,7 @@ class Worker {
       const api::Image& img = pass.empty() ? r.image : r.passes.at(pass);
       Frame f;
       f.version = version;
+      f.scene_version = scene_version;
       f.coarse = true;
       f.width = img.width;
       f.height = img.height;
@@ -304,15 +307,16 @@ class Worker {
     if (!r.complete) return false;
     auto linear = std::make_shared<const api::Image>(pass.empty() ? std::move(r.image) : std::move(r.passes.at(pass)));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    publish_full(*linear, version, pass, wo, ms, linear);
+    publish_full(*linear, version, scene_version, pass, wo, ms, linear);
     last_full = linear;
     return true;
   }
 
-  void publish_full(const api::Image& img, uint64_t version, const std::string& pass, const api::WriteOptions& wo,
+  void publish_full(const api::Image& img, uint64_t version, uint64_t scene_version, const std::string& pass, const api::WriteOptions& wo,
                     double ms, std::shared_ptr<const api::Image> linear) {
     Frame f;
     f.version = version;
+    f.scene_version = scene_version;
     f.width = img.width;
     f.height = img.height;
     f.png = api::encode_image(img, "png", wo, pass);
@@ -376,7 +380,7 @@ std::string sse(const std::string& event, const std::string& data) {
 }
 
 Json frame_json(const Frame& f) {
-  return {{"seq", f.seq},     {"version", f.version}, {"coarse", f.coarse}, {"width", f.width},
+  return {{"seq", f.seq},     {"version", f.version}, {"scene_version", f.scene_version}, {"coarse", f.coarse}, {"width", f.width},
           {"height", f.height}, {"pass", f.pass.empty() ? "image" : f.pass}, {"render_ms", f.render_ms}};
 }
 
