@@ -3,7 +3,9 @@
 // of the acceleration structure, ownership.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -271,5 +273,36 @@ TEST(Api, EncodeImageGivesTheBytesOfTheFile) {
   EXPECT_NEAR(bottom[1], 1.0f, 1e-6);
   EXPECT_THROW(glint::api::encode_image(result.image, "gif"), glint::Error);
   EXPECT_THROW(glint::api::encode_image(result.image, "png", {}, "shiny"), glint::Error);
+  fs::remove_all(dir);
+}
+
+// A bare mesh file is a scene: the documented rig around its bounding sphere.
+TEST(Api, MeshFileIsFramedByTheRig) {
+  const fs::path dir = fs::temp_directory_path() / "glint_api_mesh_scene";
+  fs::create_directories(dir);
+  const fs::path obj = dir / "tri.obj";
+  {
+    std::ofstream out(obj);
+    out << "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n";
+  }
+  const Scene scene = Scene::load(obj);
+  EXPECT_EQ(scene.object_count(), 1u);
+  EXPECT_EQ(scene.light_count(), 3u);
+  EXPECT_EQ(scene.width(), 800);
+  EXPECT_EQ(scene.height(), 450);
+  // Bounds [0,2]x[0,2]x[0,0]: center (1,1,0), radius sqrt(8)/2; the camera
+  // is 1.15 r / sin(20 deg) away along (0, 0.5, 1) normalized.
+  const auto at = nlohmann::json::parse(scene.get("camera.look_at"));
+  EXPECT_DOUBLE_EQ(at[0].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(at[1].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(at[2].get<double>(), 0.0);
+  const auto eye = nlohmann::json::parse(scene.get("camera.position"));
+  const double d = 1.15 * (std::sqrt(8.0) / 2) / std::sin(20.0 * std::numbers::pi / 180.0);
+  EXPECT_NEAR(eye[1].get<double>() - 1.0, d * 0.5 / std::sqrt(1.25), 1e-12);
+  EXPECT_NEAR(eye[2].get<double>(), d / std::sqrt(1.25), 1e-12);
+  EXPECT_EQ(scene.get("objects[0].file"), "\"tri.obj\"");
+  // Its JSON loads back beside the mesh to the same scene.
+  const Scene back = Scene::from_json(scene.to_json(), dir, "back.json");
+  EXPECT_EQ(glint::api::render(back).image.rgb, glint::api::render(scene).image.rgb);
   fs::remove_all(dir);
 }

@@ -20,6 +20,7 @@
 #include "glint/io/json.h"
 #include "glint/io/memory_limit.h"
 #include "glint/io/mesh_file.h"
+#include "glint/io/mesh_scene.h"
 #include "glint/io/texture_file.h"
 
 namespace glint {
@@ -1100,6 +1101,8 @@ std::vector<Error> validate_scene(const std::filesystem::path& path) {
 }
 
 Scene load_scene(const std::filesystem::path& path) {
+  // A bare mesh file is framed by a fixed rig (io/mesh_scene.h).
+  if (is_mesh_file(path)) return parse_scene(mesh_scene_json(path), path.string(), path.parent_path());
   const json::Document doc = json::parse_file(path.string());
   try {
     return SceneReader(doc, path.parent_path()).read();
