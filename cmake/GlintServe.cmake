@@ -14,9 +14,12 @@ if(GLINT_SERVE)
     file(GLOB GLINT_WEB_FILES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/web/*.html ${PROJECT_SOURCE_DIR}/web/*.js
          ${PROJECT_SOURCE_DIR}/web/*.css ${PROJECT_SOURCE_DIR}/web/*.svg)
     set(GLINT_ASSETS_CPP ${PROJECT_BINARY_DIR}/generated/serve_assets.cpp)
+    # "|" between the files: a ";" would split the command.
+    string(REPLACE ";" "|" GLINT_WEB_FILE_LIST "${GLINT_WEB_FILES}")
     add_custom_command(OUTPUT ${GLINT_ASSETS_CPP}
-      COMMAND ${CMAKE_COMMAND} -DOUTPUT=${GLINT_ASSETS_CPP} "-DFILES=${GLINT_WEB_FILES}"
+      COMMAND ${CMAKE_COMMAND} -DOUTPUT=${GLINT_ASSETS_CPP} -DFILES=${GLINT_WEB_FILE_LIST}
               -P ${PROJECT_SOURCE_DIR}/cmake/embed_assets.cmake
+      VERBATIM
       DEPENDS ${GLINT_WEB_FILES} ${PROJECT_SOURCE_DIR}/cmake/embed_assets.cmake
       COMMENT "Embedding web/ into glint serve")
     file(GLOB GLINT_SERVE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/glint/serve/*.cpp

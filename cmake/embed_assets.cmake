@@ -1,6 +1,7 @@
 # Writes OUTPUT: a C++ file defining glint::serve::assets() with the bytes of
-# each file of FILES (a ;-list), so the page needs no files beside the binary.
+# each file of FILES (separated by | or ;), so the page needs no files beside the binary.
 # Run as: cmake -DOUTPUT=... -DFILES=... -P embed_assets.cmake
+string(REPLACE "|" ";" FILES "${FILES}")
 set(body "")
 set(table "")
 set(i 0)

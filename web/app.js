@@ -9,6 +9,9 @@ const preview = (window.glintPreview = {
   state: null, frame: null, frames: 0, lastEditVersion: 0, lastExplain: null, lastError: '', editsInFlight: 0,
 });
 
+// Tells tests and the benchmark that the page changed (state, frame, edit, tree).
+const changed = () => window.dispatchEvent(new Event('glintpreview'));
+
 let state = null;
 let selectedMaterial = null;
 let structure = '';  // what the controls were built for
@@ -61,6 +64,7 @@ async function pump() {
     preview.editsInFlight--;
     sending = false;
     pump();
+    changed();
   }
 }
 preview.sendEdits = sendEdits;
@@ -353,6 +357,7 @@ function applyState(s) {
     canvas.width = s.width;
     canvas.height = s.height;
   }
+  changed();
 }
 
 let lastFrameTime = 0;
@@ -385,6 +390,7 @@ async function showFrame(f) {
     $('download-pfm').href = `/frame/${f.seq}.pfm`;
   }
   setStatus();
+  changed();
 }
 
 // One event stream while the tab is visible: a hidden tab costs the server
@@ -561,5 +567,6 @@ async function explainPixel(x, y) {
   } catch (e) {
     showMessage(e.message, true);
   }
+  changed();
 }
 preview.explainPixel = explainPixel;

@@ -47,9 +47,10 @@ void write_image(const Image& image, const std::filesystem::path& path, const Wr
 
 std::vector<unsigned char> encode_image(const Image& image, std::string_view format, const WriteOptions& options,
                                         std::string_view pass) {
-  std::string ext(format);
-  if (!ext.empty() && ext[0] != '.') ext.insert(0, ".");
-  const auto f = glint::image_format_for_path("x" + ext);
+  std::string name = "x";
+  if (format.empty() || format[0] != '.') name.push_back('.');
+  name.append(format);
+  const auto f = glint::image_format_for_path(name);
   if (!f) throw Error("unknown image format \"" + std::string(format) + "\"");
   glint::WriteOptions o;
   o.exposure = options.exposure;

@@ -69,6 +69,8 @@ struct Frame {
   std::vector<unsigned char> png;
   std::shared_ptr<const api::Image> linear;  // full frames: the exact values (PFM download)
   std::string pass;
+  double exposure = 0;  // the view it was encoded with
+  std::string tonemap;
   double render_ms = 0;
 };
 
@@ -201,6 +203,8 @@ class Worker {
 
  private:
   void publish(Frame frame) {
+    frame.exposure = view_.exposure;
+    frame.tonemap = view_.tonemap;
     std::lock_guard lock(session_.mutex);
     frame.seq = ++session_.frame_seq_;
     session_.frames_.push_back(std::move(frame));
@@ -239,6 +243,7 @@ class Worker {
         scene_version = session_.scene_version_;
         session_.cancel = false;
       }
+      view_ = view;
       api::WriteOptions wo;
       wo.exposure = view.exposure;
       wo.tonemap = tonemap_named(view.tonemap);
@@ -328,6 +333,7 @@ class Worker {
 
   Session& session_;
   int threads_;
+  View view_;  // of the job in hand
   std::shared_mutex renderer_mutex_;
   std::unique_ptr<api::Renderer> renderer_;
   std::thread thread_;
@@ -381,7 +387,8 @@ std::string sse(const std::string& event, const std::string& data) {
 
 Json frame_json(const Frame& f) {
   return {{"seq", f.seq},     {"version", f.version}, {"scene_version", f.scene_version}, {"coarse", f.coarse}, {"width", f.width},
-          {"height", f.height}, {"pass", f.pass.empty() ? "image" : f.pass}, {"render_ms", f.render_ms}};
+          {"height", f.height}, {"pass", f.pass.empty() ? "image" : f.pass}, {"exposure", f.exposure},
+          {"tonemap", f.tonemap},   {"render_ms", f.render_ms}};
 }
 
 // A name beside `original` that does not exist yet: scene-edited.json,
@@ -390,8 +397,13 @@ fs::path new_file_beside(const fs::path& original) {
   const fs::path folder = original.parent_path();
   const std::string stem = original.stem().string();
   for (int i = 1;; ++i) {
-    const fs::path candidate =
-        folder / (stem + "-edited" + (i == 1 ? std::string() : "-" + std::to_string(i)) + ".json");
+    std::string name = stem + "-edited";
+    if (i > 1) {
+      name += '-';
+      name += std::to_string(i);
+    }
+    name += ".json";
+    const fs::path candidate = folder / name;
     std::error_code ec;
     if (!fs::exists(candidate, ec)) return candidate;
   }
@@ -483,7 +495,8 @@ int run(const ServeOptions& options) {
 
   // The page: only the assets built into the binary.
   for (const Asset& asset : assets()) {
-    const std::string route = asset.name == "index.html" ? "/" : "/" + std::string(asset.name);
+    std::string route = "/";
+    if (asset.name != "index.html") route.append(asset.name);
     server.Get(route, [asset](const httplib::Request&, httplib::Response& res) {
       res.set_content(std::string(asset.data, asset.size), std::string(asset.type));
     });
