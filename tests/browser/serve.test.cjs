@@ -233,6 +233,12 @@ test('a slider changes the frame to glint render of the same parameters', async 
   assert.equal(await diffWithPng(glintRender(writeScene(edited), ['--exposure', '1.5', '--tonemap', 'reinhard'])), 0);
   await setRange('input[type=range][data-path="view.exposure"]', 0);
   await page.selectOption('select[data-path="view.tonemap"]', 'clamp');
+  // A pass: as glint render --passes writes its file.
+  await page.selectOption('select[data-path="view.pass"]', 'normal');
+  await settled(page, { 'view.pass': 'normal', 'view.exposure': 0, 'view.tonemap': 'clamp' });
+  const withPasses = glintRender(writeScene(edited), ['--passes', 'normal']);
+  assert.equal(await diffWithPng(withPasses.replace(/\.png$/, '.normal.png')), 0);
+  await page.selectOption('select[data-path="view.pass"]', 'image');
   // A bad value is refused with the loader's message; the scene is unchanged.
   const r = await page.evaluate(() => fetch('/api/edit', { method: 'POST', headers: { 'Content-Type': 'application/json' },
     body: JSON.stringify({ edits: [{ op: 'set', path: 'materials.red.shininess', value: -3 }] }) })
