@@ -516,14 +516,15 @@ int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
     // its meshes; for later animation frames, moving the scene to the frame).
     std::fprintf(stderr,
                  "glint: %s: %dx%d, %d spp, %d thread%s, %s: render %.3f s (total %.3f s: load %.3f, build %.3f, "
-                 "write %.3f); rays: %s camera (%s hit), %s shadow, %s reflection, %s refraction; %.2f Mrays/s\n",
+                 "write %.3f); rays: %s camera, %s shadow, %s reflection, %s refraction; %s camera rays hit; "
+                 "%.2f Mrays/s\n",
                  args.output_path.c_str(), r.width, r.height, r.samples_per_pixel, stats.threads,
                  stats.threads == 1 ? "" : "s",
                  args.accel.c_str(),
                  stats.seconds, total, seconds(start, build_start), seconds(build_start, build_end),
-                 seconds(write_start, write_end), format_count(rays.camera).c_str(),
-                 format_count(rays.camera_hits).c_str(), format_count(rays.shadow).c_str(),
+                 seconds(write_start, write_end), format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
                  format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
+                 format_count(rays.camera_hits).c_str(),
                  stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
     if (r.adaptive)
       std::fprintf(stderr, "glint: adaptive: %zu of %zu pixels (%.1f%%) rendered again at %d spp\n",
