@@ -2,7 +2,7 @@
 # How the cost of a ray grows with the mesh, through the renderer:
 #   bench/render-scaling.sh [SIZES] [THREADS] [REPEAT]
 # e.g. bench/render-scaling.sh 100000,1000000,10000000 1,2 3
-# Renders ../shared/bench's terrain scene (height field + reflective plane,
+# Renders bench/make_bench.py's terrain scene (height field + reflective plane,
 # 1280x720, 1 spp: camera, shadow and mirror rays) made with each triangle
 # count, and reports the render part of `glint render` (loading and building
 # excluded) as Mrays/s, best of REPEAT (the sizes take turns), and the time
@@ -16,7 +16,7 @@ THREADS="${2:-1,2}"
 REPEAT="${3:-3}"
 GLINT="${GLINT:-build/glint}"
 DIR="${GLINT_SCALING_DIR:-/tmp/glint-scaling}"
-MAKE_BENCH="${MAKE_BENCH:-../shared/bench/make_bench.py}"
+MAKE_BENCH="${MAKE_BENCH:-bench/make_bench.py}"
 [ -x "$GLINT" ] || { echo "error: $GLINT not built (cmake --build build)" >&2; exit 1; }
 
 IFS=, read -r -a sizes <<<"$SIZES"

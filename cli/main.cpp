@@ -247,13 +247,33 @@ double texture_bytes(const glint::Scene& scene) {
   return bytes;
 }
 
+// Each mesh file's arrays once, however many objects instance it.
+double mesh_bytes(const glint::Scene& scene) {
+  double bytes = static_cast<double>(scene.meshes.capacity() * sizeof(glint::Mesh));
+  for (const glint::Mesh& m : scene.meshes)
+    bytes += static_cast<double>(m.positions.capacity() * sizeof(glint::Vec3f) +
+                                 m.indices.capacity() * sizeof(uint32_t) +
+                                 m.corner_normals.capacity() * sizeof(glint::Vec3f) +
+                                 m.triangle_material.capacity() * sizeof(uint32_t) +
+                                 m.corner_uvs.capacity() * sizeof(glint::UVf));
+  return bytes;
+}
+
+double polygon_bytes(const glint::Scene& scene) {
+  double bytes = static_cast<double>(scene.polygons.capacity() * sizeof(glint::Polygon));
+  for (const glint::Polygon& p : scene.polygons)
+    bytes += static_cast<double>((p.vertices.capacity() + p.normals.capacity()) * sizeof(glint::Vec3) +
+                                 p.triangles.capacity() * sizeof(p.triangles[0]));
+  return bytes;
+}
+
 // What the scene holds and what rendering it will take in memory.
 int run_info(const std::string& scene_path) {
   using namespace glint;
   const Scene scene = load_scene(scene_path);
   const auto accel = build_accelerator(scene);
   const RenderSettings& r = scene.render;
-  size_t by_type[4] = {0, 0, 0, 0};
+  size_t by_type[kShapeTypeCount] = {};
   Bounds3 bounds;
   for (uint32_t i = 0; i < scene.objects.size(); ++i) {
     by_type[static_cast<int>(scene.objects[i].type)]++;
@@ -265,7 +285,11 @@ int run_info(const std::string& scene_path) {
                              scene.planes.capacity() * sizeof(Plane) + scene.triangles.capacity() * sizeof(Triangle) +
                              scene.boxes.capacity() * sizeof(Box) + scene.transforms.capacity() * sizeof(Transform) +
                              scene.materials.capacity() * sizeof(Material) + scene.lights.capacity() * sizeof(Light) +
-                             texture_bytes(scene);
+                             scene.cones.capacity() * sizeof(Cone) + scene.disks.capacity() * sizeof(Disk) +
+                             polygon_bytes(scene) + mesh_bytes(scene) + texture_bytes(scene);
+  size_t mesh_triangles = 0;  // of the mesh objects (an instance counts its mesh again)
+  for (const Object& o : scene.objects)
+    if (o.type == ShapeType::mesh) mesh_triangles += scene.meshes[o.shape].triangle_count();
   const double image_bytes = 12.0 * r.width * r.height;
   std::printf("scene      %s\n", scene_path.c_str());
   const char* filters[] = {"box", "gaussian", "mitchell"};
@@ -274,8 +298,12 @@ int run_info(const std::string& scene_path) {
   std::printf("image      %dx%d, %s, %s filter, max depth %d, %s\n", r.width, r.height, sampling.c_str(),
               filters[static_cast<int>(r.pixel_filter.type)], r.max_depth,
               r.shading_model == ShadingModel::phong ? "phong" : "blinn-phong");
-  std::printf("objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes\n", scene.objects.size(),
-              by_type[0], by_type[1], by_type[2], by_type[3]);
+  const auto count = [&](ShapeType t) { return by_type[static_cast<int>(t)]; };
+  std::printf("objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes, %zu meshes (%zu triangles), "
+              "%zu cylinders, %zu cones, %zu disks, %zu polygons\n",
+              scene.objects.size(), count(ShapeType::sphere), count(ShapeType::plane), count(ShapeType::triangle),
+              count(ShapeType::box), count(ShapeType::mesh), mesh_triangles, count(ShapeType::cylinder),
+              count(ShapeType::cone), count(ShapeType::disk), count(ShapeType::polygon));
   std::printf("lights     %zu: %zu ambient, %zu point, %zu directional, %zu spot, %zu area\n", scene.lights.size(),
               lights_by_type[0], lights_by_type[1], lights_by_type[2], lights_by_type[3], lights_by_type[4]);
   std::printf("materials  %zu (and the default)\n", scene.materials.size() - 1);

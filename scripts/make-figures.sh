@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Renders the lecture figures of scenes/figures and the showcase into docs/img/
-# (small PNGs the README shows). Needs a built glint (scripts/setup.sh) and python3.
+# (small PNGs that docs/figures.md and the README show). Needs a built glint (scripts/setup.sh) and python3.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 GLINT=${GLINT:-build/glint}
@@ -42,6 +42,9 @@ done
 python3 scripts/montage.py "$OUT/mirrors.png" "$TMP"/mirrors-{1,2,5}.ppm
 
 render scenes/figures/refraction.json -o "$OUT/refraction.png"
+# Cylinders (closed, open, glass), cones (pointed and a frustum), an annulus,
+# a non-convex star polygon and a smooth-shaded hexagon (a polygon with normals).
+render scenes/figures/quadrics.json -o "$OUT/quadrics.png"
 render scenes/showcase.json -o "$OUT/showcase.png"
 render scenes/meshes/bunny.json -o "$OUT/bunny.png"
 render scenes/textures/textures.json -o "$OUT/textures.png"

@@ -16,9 +16,13 @@
 
 namespace glint {
 
+// The side of the square tiles that threads take in turn, and the unit of
+// interrupt and resume: one value for every path (CLI, resume files, MPI).
+inline constexpr int kTileSize = 16;
+
 struct RenderOptions {
   int threads = 0;      // 0: all cores
-  int tile_size = 16;
+  int tile_size = kTileSize;
   // Called on the calling thread about ten times a second with the fraction done.
   std::function<void(double fraction)> progress;
   // When set and true, workers stop taking tiles and abandon the ones they are
@@ -30,7 +34,7 @@ struct RenderOptions {
 // With adaptive sampling a tile is finished in two stages: the first pass,
 // then the refinement of its chosen pixels.
 struct TileProgress {
-  int tile_size = 16;
+  int tile_size = kTileSize;
   int tiles_x = 0, tiles_y = 0;
   std::vector<uint8_t> done;  // tiles_x * tiles_y flags, row-major: the stages finished (0, 1, 2)
   uint8_t stages = 1;         // 2 with adaptive sampling (render_tiles sets it)

@@ -1,0 +1,167 @@
+// The public Renderer: a snapshot of a Scene with its accelerator, and the
+// film loop, passes and explain behind plain types.
+#include "glint/render.h"
+
+#include <chrono>
+
+#include "glint/accel/accelerator.h"
+#include "glint/api/scene_state.h"
+#include "glint/image/image.h"
+#include "glint/render/explain.h"
+#include "glint/render/passes.h"
+#include "glint/render/renderer.h"
+#include "glint/version.h"
+
+namespace glint {
+const char* version() { return GLINT_VERSION_STRING; }
+}  // namespace glint
+
+namespace glint::api {
+
+namespace {
+
+Image to_public(glint::Image&& image) { return {image.width, image.height, std::move(image.rgb)}; }
+
+glint::Image to_internal(const Image& image) {
+  if (image.width < 0 || image.height < 0 ||
+      image.rgb.size() != 3 * static_cast<size_t>(image.width) * static_cast<size_t>(image.height))
+    throw Error("image: rgb holds " + std::to_string(image.rgb.size()) + " floats, not 3 x " +
+                std::to_string(image.width) + " x " + std::to_string(image.height));
+  glint::Image out;
+  out.width = image.width;
+  out.height = image.height;
+  out.rgb = image.rgb;
+  return out;
+}
+
+}  // namespace
+
+void write_image(const Image& image, const std::filesystem::path& path, const WriteOptions& options) {
+  glint::WriteOptions o;
+  o.exposure = options.exposure;
+  o.tonemap = static_cast<glint::ToneMap>(options.tonemap);
+  glint::write_image(to_internal(image), path, o);
+}
+
+Image read_image(const std::filesystem::path& path) { return to_public(glint::read_image(path)); }
+
+bool embree_available() { return glint::embree_available(); }
+
+struct Renderer::State {
+  Scene scene;  // as last given: what render() draws
+  // The snapshot the accelerator was built on (it holds references into it);
+  // its geometry equals that of `scene`.
+  std::shared_ptr<const glint::Scene> built_on;
+  std::unique_ptr<Accelerator> accel;
+  size_t geometry_key = 0;
+  PrepareOptions options;
+  double build_seconds = 0;
+  int builds = 0;
+
+  explicit State(const Scene& s, const PrepareOptions& o) : scene(s), options(o) { build(); }
+
+  void build() {
+    const auto start = std::chrono::steady_clock::now();
+    AcceleratorOptions ao;
+    ao.threads = options.threads;
+    ao.backend = options.accel == Accel::embree ? AccelBackend::embree : AccelBackend::bvh;
+    built_on = scene.state()->scene;
+    accel = build_accelerator(*built_on, ao);
+    geometry_key = scene.geometry_key();
+    build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++builds;
+  }
+  const glint::Scene& internal() const { return *scene.state()->scene; }
+};
+
+Renderer::Renderer(const Scene& scene, const PrepareOptions& options)
+    : state_(std::make_unique<State>(scene, options)) {}
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+void Renderer::update(const Scene& scene) {
+  state_->scene = scene;
+  if (scene.geometry_key() != state_->geometry_key) state_->build();
+}
+
+const Scene& Renderer::scene() const { return state_->scene; }
+
+RenderResult Renderer::render(const RenderOptions& options) const {
+  const glint::Scene& scene = state_->internal();
+  const int w = scene.render.width, h = scene.render.height;
+  std::vector<Pass> passes;
+  for (const std::string& name : options.passes) {
+    const auto pass = pass_from_name(name);
+    if (!pass) throw Error("unknown pass \"" + name + "\"");
+    passes.push_back(*pass);
+  }
+  PassImages pass_images(passes, w, h);
+  glint::Image image(w, h);
+  TileProgress progress(w, h, kTileSize);
+  const bool region = options.x1 > options.x0 && options.y1 > options.y0;
+  if (region) {
+    if (options.x0 < 0 || options.y0 < 0 || options.x1 > w || options.y1 > h)
+      throw Error("render region outside the " + std::to_string(w) + "x" + std::to_string(h) + " image");
+    if (scene.render.adaptive) throw Error("a render region cannot use adaptive sampling (it needs the whole image)");
+    for (size_t t = 0; t < progress.done.size(); ++t) {
+      const int tx0 = static_cast<int>(t % progress.tiles_x) * kTileSize;
+      const int ty0 = static_cast<int>(t / progress.tiles_x) * kTileSize;
+      const bool inside = tx0 < options.x1 && tx0 + kTileSize > options.x0 && ty0 < options.y1 &&
+                          ty0 + kTileSize > options.y0;
+      if (!inside) progress.done[t] = 1;
+    }
+  }
+  glint::RenderOptions ro;
+  ro.threads = options.threads;
+  ro.tile_size = kTileSize;
+  ro.progress = options.progress;
+  ro.cancel = options.cancel;
+  glint::RenderStats stats;
+  RenderResult result;
+  result.complete = render_tiles(scene, *state_->accel, image, progress, ro, &stats,
+                                 passes.empty() ? nullptr : &pass_images);
+  if (region) {
+    // Pixels of edge tiles outside the region were rendered with their tile.
+    auto clear_outside = [&](glint::Image& img) {
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          if (x < options.x0 || x >= options.x1 || y < options.y0 || y >= options.y1) {
+            float* p = img.pixel(x, y);
+            p[0] = p[1] = p[2] = 0;
+          }
+    };
+    clear_outside(image);
+    for (glint::Image& img : pass_images.images) clear_outside(img);
+  }
+  result.image = to_public(std::move(image));
+  for (size_t i = 0; i < pass_images.passes.size(); ++i)
+    result.passes.emplace(std::string(pass_name(pass_images.passes[i])), to_public(std::move(pass_images.images[i])));
+  result.stats.camera_rays = stats.rays.camera;
+  result.stats.shadow_rays = stats.rays.shadow;
+  result.stats.reflection_rays = stats.rays.reflection;
+  result.stats.refraction_rays = stats.rays.refraction;
+  result.stats.render_seconds = stats.seconds;
+  result.stats.threads = stats.threads;
+  result.stats.build_seconds = state_->build_seconds;
+  result.stats.builds = state_->builds;
+  return result;
+}
+
+std::string Renderer::explain_json(int x, int y) const {
+  const glint::Scene& scene = state_->internal();
+  return explanation_json(scene, explain_pixel(scene, *state_->accel, x, y));
+}
+
+std::string Renderer::explain_text(int x, int y) const {
+  const glint::Scene& scene = state_->internal();
+  return explanation_text(scene, explain_pixel(scene, *state_->accel, x, y));
+}
+
+RenderResult render(const Scene& scene, const RenderOptions& options) {
+  PrepareOptions prepare;
+  prepare.threads = options.threads;
+  return Renderer(scene, prepare).render(options);
+}
+
+}  // namespace glint::api

@@ -1,0 +1,211 @@
+// The public API (include/glint/): loading, edits checked by the loader's
+// rules, JSON written back, renders equal to the internal pipeline's, reuse
+// of the acceleration structure, ownership.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "glint/accel/accelerator.h"
+#include "glint/glint.h"
+#include "glint/io/scene_loader.h"
+#include "glint/render/renderer.h"
+
+namespace fs = std::filesystem;
+using glint::api::Renderer;
+using glint::api::Scene;
+
+namespace {
+
+const char* kTwoSpheres = R"({
+  "render": { "width": 48, "height": 32, "background": [0.1, 0.2, 0.3] },
+  "camera": { "position": [0, 1, 6], "look_at": [0, 0.5, 0] },
+  "materials": {
+    "red":  { "ambient": 0.1, "diffuse": [0.8, 0.2, 0.1], "specular": 0.6, "shininess": 40 },
+    "floor": { "diffuse": 0.5, "reflectivity": 0.25 }
+  },
+  "lights": [ { "type": "point", "position": [-3, 5, 4], "ambient": 0.2 } ],
+  "objects": [
+    { "type": "sphere", "center": [-0.8, 0.8, 0], "radius": 0.8, "material": "red" },
+    { "type": "sphere", "center": [1, 0.5, -0.5], "radius": 0.5, "material": "red" },
+    { "type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "floor" }
+  ]
+})";
+
+// The same scene through the internal pipeline: load, build, render.
+glint::Image internal_render(const std::string& text, const fs::path& base = {}) {
+  const glint::Scene scene = glint::parse_scene(text, "t.json", base);
+  const auto accel = glint::build_accelerator(scene);
+  return glint::render_image(scene, *accel);
+}
+
+}  // namespace
+
+TEST(Api, RenderEqualsTheInternalPipeline) {
+  const Scene scene = Scene::from_json(kTwoSpheres);
+  const glint::api::RenderResult r = glint::api::render(scene);
+  const glint::Image expected = internal_render(kTwoSpheres);
+  ASSERT_EQ(r.image.width, 48);
+  ASSERT_EQ(r.image.height, 32);
+  EXPECT_EQ(r.image.rgb, expected.rgb);
+  EXPECT_TRUE(r.complete);
+  EXPECT_EQ(r.stats.camera_rays, 48u * 32u);
+  EXPECT_GT(r.stats.shadow_rays, 0u);
+}
+
+TEST(Api, BadEditIsRefusedWithTheLoadersMessageAndChangesNothing) {
+  Scene scene = Scene::from_json(kTwoSpheres, {}, "two.json");
+  const std::string before = scene.to_json();
+  try {
+    scene.set("materials.red.shininess", -3.0);
+    FAIL() << "a negative shininess was accepted";
+  } catch (const glint::Error& e) {
+    EXPECT_EQ(e.message(), "materials.red.shininess: must be > 0 (got -3)");
+    EXPECT_EQ(e.location().file, "two.json");
+  }
+  EXPECT_EQ(scene.to_json(), before);
+  EXPECT_THROW(scene.set_string("objects[0].material", "gold"), glint::Error);  // unknown material
+  EXPECT_THROW(scene.set("camera.position", std::array<double, 3>{0, 0.5, 0}), glint::Error);  // = look_at
+  EXPECT_THROW(scene.set_json("lights[0].position", "[1, 2]"), glint::Error);
+  EXPECT_THROW(scene.set_json("lights[0].position", "[1, 2"), glint::Error);  // not JSON
+  EXPECT_THROW(scene.set("materials.red.shinyness", 3.0), glint::Error);     // unknown key
+  EXPECT_THROW(scene.erase("materials.red"), glint::Error);                  // still in use
+  EXPECT_THROW(scene.set("objects[7].radius", 1.0), glint::Error);           // no such object
+  EXPECT_EQ(scene.to_json(), before);
+}
+
+TEST(Api, EditsChangeTheRenderAsTheFileWould) {
+  Scene scene = Scene::from_json(kTwoSpheres);
+  scene.set("materials.red.shininess", 7.0);
+  scene.set("lights[0].position", std::array<double, 3>{2, 4, 3});
+  scene.set("render.samples_per_pixel", 4);
+  EXPECT_EQ(scene.get("materials.red.shininess"), "7.0");
+  EXPECT_EQ(scene.get("render.samples_per_pixel"), "4");
+  std::string edited = kTwoSpheres;
+  edited.replace(edited.find("\"shininess\": 40"), 15, "\"shininess\": 7");
+  edited.replace(edited.find("[-3, 5, 4]"), 10, "[2, 4, 3]");
+  edited.replace(edited.find("\"width\": 48"), 11, "\"samples_per_pixel\": 4, \"width\": 48");
+  EXPECT_EQ(glint::api::render(scene).image.rgb, internal_render(edited).rgb);
+}
+
+TEST(Api, MaterialAndLightEditsReuseTheAccelerationStructure) {
+  Scene scene = Scene::from_json(kTwoSpheres);
+  Renderer renderer(scene);
+  const auto first = renderer.render();
+  EXPECT_EQ(first.stats.builds, 1);
+  scene.set("materials.red.diffuse", std::array<double, 3>{0.1, 0.9, 0.1});
+  scene.set("lights[0].diffuse", 2.0);
+  scene.set("camera.position", std::array<double, 3>{0.5, 1, 6});
+  renderer.update(scene);
+  const auto second = renderer.render();
+  EXPECT_EQ(second.stats.builds, 1);  // no rebuild
+  EXPECT_EQ(second.image.rgb, glint::api::render(scene).image.rgb);
+  EXPECT_NE(second.image.rgb, first.image.rgb);
+  scene.set("objects[1].radius", 0.7);  // geometry: rebuilt
+  renderer.update(scene);
+  const auto third = renderer.render();
+  EXPECT_EQ(third.stats.builds, 2);
+  EXPECT_EQ(third.image.rgb, glint::api::render(scene).image.rgb);
+}
+
+TEST(Api, AddingAndRemovingLightsObjectsAndMaterials) {
+  Scene scene = Scene::from_json(kTwoSpheres);
+  scene.append_json("lights", R"({ "type": "directional", "direction": [0, -1, -1], "diffuse": 0.3 })");
+  EXPECT_EQ(scene.light_count(), 2u);
+  scene.set_json("materials.blue", R"({ "diffuse": [0.1, 0.1, 0.9] })");
+  scene.append_json("objects", R"({ "type": "sphere", "center": [0, 2, -2], "radius": 0.4, "material": "blue" })");
+  EXPECT_EQ(scene.object_count(), 4u);
+  EXPECT_EQ(scene.material_names(), (std::vector<std::string>{"red", "floor", "blue"}));
+  scene.erase("objects[3]");
+  scene.erase("materials.blue");
+  scene.erase("lights[1]");
+  EXPECT_EQ(Scene::from_json(scene.to_json()).to_json(), Scene::from_json(kTwoSpheres).to_json());
+  EXPECT_THROW(scene.append_json("objects", R"({ "type": "sphere", "radius": 1 })"), glint::Error);
+  EXPECT_EQ(scene.object_count(), 3u);
+}
+
+TEST(Api, ToJsonLoadsBackToTheSameImageForEveryExampleScene) {
+  const fs::path root = fs::path(GLINT_SOURCE_DIR) / "scenes";
+  int checked = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    Scene scene = Scene::load(entry.path());
+    // Small, so the test stays quick; the same for both.
+    scene.set("render.width", 40);
+    scene.set("render.height", 30);
+    if (scene.has("render.adaptive")) scene.erase("render.adaptive");
+    const Scene again = Scene::from_json(scene.to_json(), scene.base_dir(), "again.json");
+    EXPECT_EQ(again.to_json(), scene.to_json());
+    EXPECT_EQ(glint::api::render(again).image.rgb, glint::api::render(scene).image.rgb);
+    ++checked;
+  }
+  EXPECT_GE(checked, 10);
+}
+
+TEST(Api, ARendererOutlivesTheSceneItWasMadeFrom) {
+  std::unique_ptr<Renderer> renderer;
+  {
+    Scene scene = Scene::from_json(kTwoSpheres);
+    renderer = std::make_unique<Renderer>(scene);
+    scene.set("materials.red.shininess", 3.0);  // an edit after prepare does not reach the renderer
+  }
+  EXPECT_EQ(renderer->render().image.rgb, internal_render(kTwoSpheres).rgb);
+  Renderer from_temporary(Scene::from_json(kTwoSpheres));
+  EXPECT_EQ(from_temporary.render().image.rgb, internal_render(kTwoSpheres).rgb);
+}
+
+TEST(Api, ExplainGivesThePixelsColor) {
+  const Scene scene = Scene::from_json(kTwoSpheres);
+  const Renderer renderer(scene);
+  const auto image = renderer.render().image;
+  const nlohmann::json explained = nlohmann::json::parse(renderer.explain_json(20, 12));
+  const float* px = &image.rgb[3 * (12 * 48 + 20)];
+  EXPECT_EQ(explained["pixel"], nlohmann::json::array({20, 12}));
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(explained["color"][c].get<float>(), px[c]);
+  EXPECT_GT(px[0], 0.0f);
+  EXPECT_NE(renderer.explain_text(20, 12).find("pixel"), std::string::npos);
+  EXPECT_THROW(renderer.explain_json(48, 0), glint::Error);
+}
+
+TEST(Api, RegionsAndPassesAreThoseOfTheWholeImage) {
+  const Scene scene = Scene::from_json(kTwoSpheres);
+  const Renderer renderer(scene);
+  const auto whole = renderer.render();
+  glint::api::RenderOptions options;
+  options.x0 = 5, options.y0 = 3, options.x1 = 30, options.y1 = 20;
+  options.passes = {"ambient", "diffuse", "specular", "reflection", "transmission", "depth"};
+  const auto part = renderer.render(options);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 48; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const size_t i = 3 * (static_cast<size_t>(y) * 48 + x) + c;
+        const bool inside = x >= 5 && x < 30 && y >= 3 && y < 20;
+        ASSERT_EQ(part.image.rgb[i], inside ? whole.image.rgb[i] : 0.0f) << x << "," << y;
+        double sum = 0;
+        for (const char* p : {"ambient", "diffuse", "specular", "reflection", "transmission"})
+          sum += part.passes.at(p).rgb[i];
+        ASSERT_NEAR(sum, part.image.rgb[i], 1e-5);
+      }
+  EXPECT_EQ(part.passes.size(), 6u);
+  options.passes = {"difuse"};
+  EXPECT_THROW(renderer.render(options), glint::Error);
+}
+
+TEST(Api, ImagesRoundTripThroughFiles) {
+  const auto image = glint::api::render(Scene::from_json(kTwoSpheres)).image;
+  const fs::path dir = fs::temp_directory_path() / "glint_api_test";
+  fs::create_directories(dir);
+  glint::api::write_image(image, dir / "a.pfm");
+  EXPECT_EQ(glint::api::read_image(dir / "a.pfm").rgb, image.rgb);
+  glint::api::Image bad{2, 2, std::vector<float>(5)};
+  EXPECT_THROW(glint::api::write_image(bad, dir / "b.pfm"), glint::Error);
+  EXPECT_FALSE(fs::exists(dir / "b.pfm"));
+  fs::remove_all(dir);
+}
+
+TEST(Api, VersionIsTheProjects) {
+  EXPECT_STREQ(glint::version(), GLINT_VERSION_STRING);
+  EXPECT_EQ(std::string(glint::version()).substr(0, 2), std::to_string(GLINT_VERSION_MAJOR) + ".");
+}
