@@ -207,9 +207,11 @@ class NffReader {
   long long whole(const Token& entity, const std::string& what, long long lo, long long hi) {
     const Token t = operand(entity, what);
     const std::string prefix = std::string(entity.text) + ": ";
+    std::string_view s = t.text;
+    if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);  // as number() takes it
     long long value = 0;
-    const char* last = t.text.data() + t.text.size();
-    const auto [end, ec] = std::from_chars(t.text.data(), last, value);
+    const char* last = s.data() + s.size();
+    const auto [end, ec] = std::from_chars(s.data(), last, value);
     if (ec == std::errc::result_out_of_range)
       fail(t, prefix + what + " " + quoted(t.text) + " is out of range (at most " + std::to_string(hi) + ")");
     if (ec != std::errc() || end != last)
