@@ -20,6 +20,7 @@
 #include "glint/io/json.h"
 #include "glint/io/memory_limit.h"
 #include "glint/io/mesh_file.h"
+#include "glint/io/nff_file.h"
 #include "glint/io/mesh_scene.h"
 #include "glint/io/texture_file.h"
 
@@ -1087,7 +1088,58 @@ Scene parse_scene(std::string text, const std::string& filename, const std::file
   }
 }
 
+namespace {
+
+// An NFF file (docs/scene-format.md, "NFF scenes") goes through the JSON
+// loader as the document nff_file.h makes of it, so both formats get the same
+// checks; whatever the loader finds is reported at the NFF entity behind it.
+Scene load_nff_scene(const std::filesystem::path& path) {
+  const NffScene nff = read_nff_file(path);
+  NffJsonText json = nff_json_text(nff);
+  Scene scene;
+  try {
+    scene = parse_scene(std::move(json.text), path.string(), path.parent_path());
+  } catch (const Error& e) {
+    throw nff_error(nff, json, e);
+  }
+  // The view's angle spans the rows' centers: fov_y follows the rendered height.
+  scene.camera.row_center_angle = nff.angle;
+  return scene;
+}
+
+std::vector<Error> validate_nff_scene(const std::filesystem::path& path) {
+  std::vector<Error> errors;
+  try {
+    const NffScene nff = read_nff_file(path);
+    const NffJsonText json = nff_json_text(nff);
+    std::vector<Error> found;
+    try {
+      const json::Document doc = json::parse(json.text, path.string());
+      SceneReader(doc, path.parent_path()).read(&found);
+    } catch (const Error& e) {
+      found.push_back(e);
+    }
+    for (const Error& e : found) errors.push_back(nff_error(nff, json, e));
+  } catch (const Error& e) {
+    errors.push_back(e);  // the NFF itself is malformed: nothing more can be checked
+  } catch (const std::bad_alloc&) {
+    errors.push_back(Error(SourceLocation{path.string(), 0, 0}, "out of memory while loading the scene"));
+  }
+  return errors;
+}
+
+}  // namespace
+
 std::vector<Error> validate_scene(const std::filesystem::path& path) {
+  if (is_nff_path(path)) return validate_nff_scene(path);
+  if (is_mesh_file(path)) {  // a bare mesh: its one error, if any, is the mesh loader's
+    try {
+      load_scene(path);
+      return {};
+    } catch (const Error& e) {
+      return {e};
+    }
+  }
   std::vector<Error> errors;
   try {
     const json::Document doc = json::parse_file(path.string());
@@ -1101,6 +1153,7 @@ std::vector<Error> validate_scene(const std::filesystem::path& path) {
 }
 
 Scene load_scene(const std::filesystem::path& path) {
+  if (is_nff_path(path)) return load_nff_scene(path);
   // A bare mesh file is framed by a fixed rig (io/mesh_scene.h).
   if (is_mesh_file(path)) return parse_scene(mesh_scene_json(path), path.string(), path.parent_path());
   const json::Document doc = json::parse_file(path.string());

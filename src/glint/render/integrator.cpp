@@ -205,6 +205,7 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel)
 
 Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace* trace) const {
   const std::optional<Hit> hit = accel_.intersect(ray);
+  if (hit && depth == 1) ctx.stats.camera_hits++;
   Color color = scene_.render.background;
   if (hit) color = shade_surface(ray, *hit, depth, ctx, trace).sum();
   if (trace) {
@@ -218,6 +219,7 @@ Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrac
 
 Color Integrator::cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth,
                                     TraceContext& ctx) const {
+  if (hit && depth == 1) ctx.stats.camera_hits++;
   return hit ? shade_surface(ray, *hit, depth, ctx).sum() : scene_.render.background;
 }
 
@@ -234,6 +236,7 @@ CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::opt
     out.terms.ambient = scene_.render.background;
     return out;
   }
+  ctx.stats.camera_hits++;
   out.terms = shade_surface(ray, *hit, 1, ctx);
   // Evaluated again (cheap, no random numbers) rather than widening
   // shade_surface's interface for the camera ray alone.

@@ -60,6 +60,12 @@ struct Camera {
   Vec3 up{0, 1, 0};
   double fov_y = 45.0;       // degrees, perspective
   double view_height = 2.0;  // world units, orthographic
+  // Degrees between the centers of the first and last pixel rows (an NFF
+  // view's `angle`). When set, the perspective fov_y is derived from it for
+  // the height actually rendered (camera_fov_y in render/camera.h), so a
+  // --height override keeps the file's view; fov_y then holds the value for
+  // the file's own resolution. Not a JSON key: only NFF scenes set it.
+  std::optional<double> row_center_angle;
 };
 
 // Surface coordinates for textures (docs/scene-format.md: "Textures").
