@@ -189,7 +189,16 @@ class Worker {
   Worker(Session& session, int threads) : session_(session), threads_(threads) {
     thread_ = std::thread([this] { loop(); });
   }
-  ~Worker() { thread_.join(); }
+  ~Worker() {
+    {
+      // Also on an early exit (a port that cannot be bound): the thread must not wait forever.
+      std::lock_guard lock(session_.mutex);
+      session_.stop_ = true;
+      session_.cancel = true;
+      session_.changed.notify_all();
+    }
+    thread_.join();
+  }
 
   // The ray tree of a pixel of the image on screen.
   std::string explain(int x, int y) {
