@@ -1132,14 +1132,6 @@ std::vector<Error> validate_nff_scene(const std::filesystem::path& path) {
 
 std::vector<Error> validate_scene(const std::filesystem::path& path) {
   if (is_nff_path(path)) return validate_nff_scene(path);
-  if (is_mesh_file(path)) {  // a bare mesh: its one error, if any, is the mesh loader's
-    try {
-      load_scene(path);
-      return {};
-    } catch (const Error& e) {
-      return {e};
-    }
-  }
   std::vector<Error> errors;
   try {
     const json::Document doc = json::parse_file(path.string());
