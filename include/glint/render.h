@@ -61,7 +61,9 @@ struct RenderOptions {
   // Only pixels [x0, x1) x [y0, y1) are rendered (the rest stay 0), when
   // x1 > x0 and y1 > y0; the pixels are those of the whole image.
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  // Called on the calling thread about ten times a second, fraction done.
+  // Called on the calling thread with the fraction done: once with 0 before
+  // any pixel, about ten times a second while rendering, and with 1 at the end
+  // (unless cancelled).
   std::function<void(double)> progress;
   // When it becomes true the render stops within a row of pixels;
   // RenderResult::complete is then false.

@@ -119,6 +119,9 @@ RenderResult Renderer::render(const RenderOptions& options) const {
   ro.cancel = options.cancel;
   glint::RenderStats stats;
   RenderResult result;
+  // Once before any pixel, so a caller can cancel (or learn of a cancel, as
+  // a binding checking for Ctrl-C does) even in a render too short for a tick.
+  if (options.progress) options.progress(0.0);
   result.complete = render_tiles(scene, *state_->accel, image, progress, ro, &stats,
                                  passes.empty() ? nullptr : &pass_images);
   if (region) {
