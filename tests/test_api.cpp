@@ -11,6 +11,7 @@
 #include "glint/glint.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/renderer.h"
+#include "glint/scene/animation.h"
 
 namespace fs = std::filesystem;
 using glint::api::Renderer;
@@ -309,4 +310,28 @@ TEST(Api, InlineMeshProblemsAreNamedByTheirPath) {
             "objects[0].file: give either \"file\" or inline \"vertices\" and \"triangles\", not both");
   EXPECT_EQ(error_of(v), "objects[0]: missing required key \"triangles\"");
   EXPECT_EQ(error_of(v + ", " + t), "accepted");
+}
+
+TEST(Api, AnAnimatedSceneRendersTheFrameAsked) {
+  const fs::path path = fs::path(GLINT_SOURCE_DIR) / "scenes" / "animation" / "rolling.json";
+  Scene scene = Scene::load(path);
+  scene.set("render.width", 32);
+  scene.set("render.height", 20);
+  const glint::Scene internal = glint::parse_scene(scene.to_json(), "r.json", scene.base_dir());
+  for (int frame : {0, 5}) {
+    const glint::Scene posed = glint::scene_at_frame(internal, frame);
+    const auto accel = glint::build_accelerator(posed);
+    glint::api::PrepareOptions options;
+    options.frame = frame;
+    EXPECT_EQ(Renderer(scene, options).render().image.rgb, glint::render_image(posed, *accel).rgb) << frame;
+  }
+  glint::api::PrepareOptions outside;
+  outside.frame = 100000;
+  EXPECT_THROW(Renderer(scene, outside), glint::Error);
+  // A material edit reaches the posed frame.
+  Renderer renderer(scene);
+  const auto before = renderer.render().image.rgb;
+  scene.set_json("render.background", "[1, 0, 0]");
+  renderer.update(scene);
+  EXPECT_NE(renderer.render().image.rgb, before);
 }

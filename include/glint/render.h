@@ -51,6 +51,10 @@ bool embree_available();
 struct PrepareOptions {
   int threads = 0;  // threads that build the acceleration structure; 0: all cores
   Accel accel = Accel::bvh;
+  // An animated scene (its "animation") is rendered as it is at this frame,
+  // as `glint render --frames N` renders it; a still scene has frame 0 only.
+  // An animated scene's acceleration structure is rebuilt on every update().
+  int frame = 0;
 };
 
 struct RenderOptions {
