@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <nlohmann/json.hpp>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -23,6 +24,7 @@
 #include "glint/error.h"
 #include "glint/image/image.h"
 #include "glint/io/memory_limit.h"
+#include "glint/io/nff_file.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
 #include "glint/render/frames.h"
@@ -58,6 +60,7 @@ struct RenderArgs {
   std::optional<std::string> frames;  // "N" or "A-B"
   bool skip_existing = false;
   std::optional<double> rank_timeout;  // under MPI
+  std::optional<std::string> stats_json;  // --stats-json FILE
 };
 
 glint::AccelBackend backend_named(const std::string& name) {
@@ -211,6 +214,24 @@ int run_explain(const ExplainArgs& args) {
   return 0;
 }
 
+// An NFF scene as glint JSON (docs/nff.md): checked by loading it first, so a
+// file written is one that loads; written atomically like every output.
+int run_convert(const std::string& input, const std::string& output) {
+  using namespace glint;
+  if (!is_nff_path(input)) throw Error(input + ": convert reads NFF scenes (.nff)");
+  std::string ext = std::filesystem::path(output).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".json") throw Error(output + ": convert writes glint JSON: the output must end in .json");
+  const std::filesystem::path out(output);
+  const std::filesystem::path out_dir = out.has_parent_path() ? out.parent_path() : ".";
+  if (!std::filesystem::is_directory(out_dir))
+    throw Error(output + ": output folder " + out_dir.string() + " does not exist");
+  load_scene(input);  // every error the loader finds, at its NFF line
+  const std::string text = nff_json_text(read_nff_file(input)).text;
+  write_file_atomically(out, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
+  return 0;
+}
+
 // Every error of the scene, one line each; exit 1 if there was any.
 int run_validate(const std::string& scene_path, bool quiet) {
   const std::vector<glint::Error> errors = glint::validate_scene(scene_path);
@@ -226,13 +247,33 @@ double texture_bytes(const glint::Scene& scene) {
   return bytes;
 }
 
+// Each mesh file's arrays once, however many objects instance it.
+double mesh_bytes(const glint::Scene& scene) {
+  double bytes = static_cast<double>(scene.meshes.capacity() * sizeof(glint::Mesh));
+  for (const glint::Mesh& m : scene.meshes)
+    bytes += static_cast<double>(m.positions.capacity() * sizeof(glint::Vec3f) +
+                                 m.indices.capacity() * sizeof(uint32_t) +
+                                 m.corner_normals.capacity() * sizeof(glint::Vec3f) +
+                                 m.triangle_material.capacity() * sizeof(uint32_t) +
+                                 m.corner_uvs.capacity() * sizeof(glint::UVf));
+  return bytes;
+}
+
+double polygon_bytes(const glint::Scene& scene) {
+  double bytes = static_cast<double>(scene.polygons.capacity() * sizeof(glint::Polygon));
+  for (const glint::Polygon& p : scene.polygons)
+    bytes += static_cast<double>((p.vertices.capacity() + p.normals.capacity()) * sizeof(glint::Vec3) +
+                                 p.triangles.capacity() * sizeof(p.triangles[0]));
+  return bytes;
+}
+
 // What the scene holds and what rendering it will take in memory.
 int run_info(const std::string& scene_path) {
   using namespace glint;
   const Scene scene = load_scene(scene_path);
   const auto accel = build_accelerator(scene);
   const RenderSettings& r = scene.render;
-  size_t by_type[4] = {0, 0, 0, 0};
+  size_t by_type[kShapeTypeCount] = {};
   Bounds3 bounds;
   for (uint32_t i = 0; i < scene.objects.size(); ++i) {
     by_type[static_cast<int>(scene.objects[i].type)]++;
@@ -244,7 +285,11 @@ int run_info(const std::string& scene_path) {
                              scene.planes.capacity() * sizeof(Plane) + scene.triangles.capacity() * sizeof(Triangle) +
                              scene.boxes.capacity() * sizeof(Box) + scene.transforms.capacity() * sizeof(Transform) +
                              scene.materials.capacity() * sizeof(Material) + scene.lights.capacity() * sizeof(Light) +
-                             texture_bytes(scene);
+                             scene.cones.capacity() * sizeof(Cone) + scene.disks.capacity() * sizeof(Disk) +
+                             polygon_bytes(scene) + mesh_bytes(scene) + texture_bytes(scene);
+  size_t mesh_triangles = 0;  // of the mesh objects (an instance counts its mesh again)
+  for (const Object& o : scene.objects)
+    if (o.type == ShapeType::mesh) mesh_triangles += scene.meshes[o.shape].triangle_count();
   const double image_bytes = 12.0 * r.width * r.height;
   std::printf("scene      %s\n", scene_path.c_str());
   const char* filters[] = {"box", "gaussian", "mitchell"};
@@ -253,8 +298,12 @@ int run_info(const std::string& scene_path) {
   std::printf("image      %dx%d, %s, %s filter, max depth %d, %s\n", r.width, r.height, sampling.c_str(),
               filters[static_cast<int>(r.pixel_filter.type)], r.max_depth,
               r.shading_model == ShadingModel::phong ? "phong" : "blinn-phong");
-  std::printf("objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes\n", scene.objects.size(),
-              by_type[0], by_type[1], by_type[2], by_type[3]);
+  const auto count = [&](ShapeType t) { return by_type[static_cast<int>(t)]; };
+  std::printf("objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes, %zu meshes (%zu triangles), "
+              "%zu cylinders, %zu cones, %zu disks, %zu polygons\n",
+              scene.objects.size(), count(ShapeType::sphere), count(ShapeType::plane), count(ShapeType::triangle),
+              count(ShapeType::box), count(ShapeType::mesh), mesh_triangles, count(ShapeType::cylinder),
+              count(ShapeType::cone), count(ShapeType::disk), count(ShapeType::polygon));
   std::printf("lights     %zu: %zu ambient, %zu point, %zu directional, %zu spot, %zu area\n", scene.lights.size(),
               lights_by_type[0], lights_by_type[1], lights_by_type[2], lights_by_type[3], lights_by_type[4]);
   std::printf("materials  %zu (and the default)\n", scene.materials.size() - 1);
@@ -376,6 +425,39 @@ glint::WriteOptions light_options(const RenderArgs& args) {
   return light;
 }
 
+// How long each phase of one render took, in seconds.
+struct PhaseSeconds {
+  double load = 0, build = 0, render = 0, write = 0, total = 0;
+};
+
+// --stats-json: the ray counts the SPD tables use and the phase times, as one
+// JSON object (docs/nff.md).
+void write_stats_json(const std::string& path, const RenderArgs& args, const glint::RenderSettings& r,
+                      const glint::RenderStats& stats, const PhaseSeconds& t) {
+  using Json = nlohmann::ordered_json;
+  const glint::RayStats& rays = stats.rays;
+  const Json doc = {
+      {"scene", args.scene_path},
+      {"output", args.output_path},
+      {"width", r.width},
+      {"height", r.height},
+      {"samples_per_pixel", r.samples_per_pixel},
+      {"max_depth", r.max_depth},
+      {"threads", stats.threads},
+      {"accel", args.accel},
+      {"rays",
+       {{"camera", rays.camera},
+        {"camera_hits", rays.camera_hits},
+        {"reflection", rays.reflection},
+        {"refraction", rays.refraction},
+        {"shadow", rays.shadow},
+        {"total", rays.total()}}},
+      {"seconds", {{"load", t.load}, {"build", t.build}, {"render", t.render}, {"write", t.write}, {"total", t.total}}},
+  };
+  const std::string text = doc.dump(2) + "\n";
+  glint::write_file_atomically(path, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
+}
+
 // Renders one image: `scene` is the frame's scene, args.output_path its file;
 // the stats line's total counts from `start`.
 int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
@@ -450,21 +532,27 @@ int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
   std::error_code ignored;
   std::filesystem::remove(resume_path, ignored);  // finished: any resume file is stale
 
+  auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  if (args.stats_json)
+    write_stats_json(*args.stats_json, args, r, stats,
+                     PhaseSeconds{seconds(start, build_start), seconds(build_start, build_end), stats.seconds,
+                                  seconds(write_start, write_end), seconds(start, Clock::now())});
   if (!args.quiet) {
-    auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
     const double total = seconds(start, Clock::now());
     const RayStats& rays = stats.rays;
     // "load": from the start to the accelerator build (reading the scene and
     // its meshes; for later animation frames, moving the scene to the frame).
     std::fprintf(stderr,
                  "glint: %s: %dx%d, %d spp, %d thread%s, %s: render %.3f s (total %.3f s: load %.3f, build %.3f, "
-                 "write %.3f); rays: %s camera, %s shadow, %s reflection, %s refraction; %.2f Mrays/s\n",
+                 "write %.3f); rays: %s camera, %s shadow, %s reflection, %s refraction; %s camera rays hit; "
+                 "%.2f Mrays/s\n",
                  args.output_path.c_str(), r.width, r.height, r.samples_per_pixel, stats.threads,
                  stats.threads == 1 ? "" : "s",
                  args.accel.c_str(),
                  stats.seconds, total, seconds(start, build_start), seconds(build_start, build_end),
                  seconds(write_start, write_end), format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
                  format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
+                 format_count(rays.camera_hits).c_str(),
                  stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
     if (r.adaptive)
       std::fprintf(stderr, "glint: adaptive: %zu of %zu pixels (%.1f%%) rendered again at %d spp\n",
@@ -521,6 +609,12 @@ int run_render_local(const RenderArgs& args) {
   // passes do not depend on the frame number.
   const std::string first_output = frame_output_path(args.output_path, 0).value_or(args.output_path);
   check_output_path(first_output);
+  if (args.stats_json) {
+    const std::filesystem::path stats(*args.stats_json);
+    const std::filesystem::path dir = stats.has_parent_path() ? stats.parent_path() : ".";
+    if (!std::filesystem::is_directory(dir))
+      throw Error(*args.stats_json + ": --stats-json folder " + dir.string() + " does not exist");
+  }
   requested_passes(args);
   Scene scene = load_scene(args.scene_path);
   if (!args.quiet) {
@@ -530,7 +624,10 @@ int run_render_local(const RenderArgs& args) {
                    "(.png .jpg .ppm) only and are ignored\n", args.output_path.c_str());
   }
   const bool animated = scene.animation.frames > 0;
-  for (const auto& [frame, output] : plan_frames(args, scene)) {
+  const std::vector<std::pair<int, std::string>> plan = plan_frames(args, scene);
+  if (args.stats_json && plan.size() > 1)
+    throw Error("--stats-json describes one image: render one frame at a time (--frames N) to get each one's");
+  for (const auto& [frame, output] : plan) {
     if (args.skip_existing && frame_done(output)) {
       if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", output.c_str());
       continue;
@@ -569,6 +666,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
   std::vector<std::pair<int, std::string>> plan;
   std::string error;
   try {
+    if (args.stats_json) throw Error("--stats-json describes a single-process render: run it without mpirun");
     scene = load_scene(args.scene_path);
     apply_overrides(args, scene->render);
     plan = plan_frames(args, *scene);
@@ -670,7 +768,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   RenderArgs args;
   CLI::App* render = app.add_subcommand("render", "render a scene file to an image");
-  render->add_option("scene", args.scene_path, "scene file (JSON)")->required();
+  render->add_option("scene", args.scene_path, "scene file (JSON or NFF)")->required();
   render->add_option("-o,--output", args.output_path, "output image: .png .jpg .ppm .pfm .exr .hdr")->required();
   render->add_option("--width", args.width, "image width in pixels")->check(whole_number_in(1, 1 << 20));
   render->add_option("--height", args.height, "image height in pixels")->check(whole_number_in(1, 1 << 20));
@@ -708,18 +806,26 @@ int main(int argc, char** argv) {
                      "reflection, transmission, normal, depth, albedo, or all");
   render->add_flag("--passes-layered", args.passes_layered,
                    "write the passes as layers of the one .exr output instead (all passes unless --passes)");
+  render->add_option("--stats-json", args.stats_json,
+                     "also write the ray counts (camera, camera hits, shadow, reflection, refraction) and the time "
+                     "of each phase to this JSON file");
+
+  std::string convert_input, convert_output;
+  CLI::App* convert = app.add_subcommand("convert", "convert an NFF scene to glint JSON");
+  convert->add_option("scene", convert_input, "scene file (.nff)")->required();
+  convert->add_option("-o,--output", convert_output, "output scene: .json")->required();
 
   std::string validate_path, info_path;
   bool validate_quiet = false;
   CLI::App* validate = app.add_subcommand("validate", "check a scene file without rendering; list every error");
-  validate->add_option("scene", validate_path, "scene file (JSON)")->required();
+  validate->add_option("scene", validate_path, "scene file (JSON or NFF)")->required();
   validate->add_flag("-q,--quiet", validate_quiet, "print nothing when the scene is valid");
   CLI::App* info = app.add_subcommand("info", "what a scene holds: counts, bounds, memory");
-  info->add_option("scene", info_path, "scene file (JSON)")->required();
+  info->add_option("scene", info_path, "scene file (JSON or NFF)")->required();
 
   ExplainArgs explain_args;
   CLI::App* explain = app.add_subcommand("explain", "explain one pixel: its whole ray tree, term by term");
-  explain->add_option("scene", explain_args.scene_path, "scene file (JSON)")->required();
+  explain->add_option("scene", explain_args.scene_path, "scene file (JSON or NFF)")->required();
   explain->add_option("--pixel", explain_args.pixel, "pixel X Y (0 0 is the top-left)")->required()->expected(2);
   explain->add_flag("--json", explain_args.json, "print one JSON object (the format of docs/scene-format.md)");
   explain->add_option("--frame", explain_args.frame, "frame of an animated scene (default 0)")
@@ -773,6 +879,7 @@ int main(int argc, char** argv) {
     if (explain->parsed()) return run_explain(explain_args);
     if (validate->parsed()) return run_validate(validate_path, validate_quiet);
     if (info->parsed()) return run_info(info_path);
+    if (convert->parsed()) return run_convert(convert_input, convert_output);
   } catch (const Interrupted& e) {
     print_error(e.what);
     return 128 + g_signal.load();

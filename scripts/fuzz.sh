@@ -10,7 +10,7 @@ MINUTES="${1:-5}"
 shift || true
 TARGETS=("$@")
 if [ ${#TARGETS[@]} -eq 0 ]; then
-  TARGETS=(fuzz_scene_loader fuzz_json)
+  TARGETS=(fuzz_scene_loader fuzz_json fuzz_nff)
   [ -f src/glint/io/mesh_file.h ] && TARGETS+=(fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_gltf fuzz_mesh_glb)
 fi
 case "$MINUTES" in ''|*[!0-9.]*) echo "usage: scripts/fuzz.sh [MINUTES] [TARGET...]" >&2; exit 2;; esac
@@ -33,6 +33,7 @@ for target in "${TARGETS[@]}"; do
   case "$target" in
     fuzz_scene_loader) seeds=(fuzz/corpus/scene) ;;
     fuzz_json) seeds=(fuzz/corpus/json fuzz/corpus/scene) ;;
+    fuzz_nff) seeds=(fuzz/corpus/nff); dict=fuzz/nff.dict ;;
     fuzz_mesh_obj) seeds=(fuzz/corpus/obj); dict=fuzz/mesh.dict ;;
     fuzz_mesh_ply) seeds=(fuzz/corpus/ply); dict=fuzz/mesh.dict ;;
     fuzz_mesh_gltf) seeds=(fuzz/corpus/gltf); dict=fuzz/gltf.dict ;;

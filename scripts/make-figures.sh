@@ -42,6 +42,9 @@ done
 python3 scripts/montage.py "$OUT/mirrors.png" "$TMP"/mirrors-{1,2,5}.ppm
 
 render scenes/figures/refraction.json -o "$OUT/refraction.png"
+# Cylinders (closed, open, glass), cones (pointed and a frustum), an annulus,
+# a non-convex star polygon and a smooth-shaded hexagon (a polygon with normals).
+render scenes/figures/quadrics.json -o "$OUT/quadrics.png"
 render scenes/showcase.json -o "$OUT/showcase.png"
 render scenes/meshes/bunny.json -o "$OUT/bunny.png"
 render scenes/textures/textures.json -o "$OUT/textures.png"

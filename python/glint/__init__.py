@@ -190,11 +190,12 @@ class Light(_View):
 
 class Object(_View):
     """An object of ``scene.objects``: ``type`` ("sphere", "plane",
-    "triangle", "box", "mesh"), ``material``, ``transform``, ``name`` and the
-    shape's keys."""
+    "triangle", "box", "mesh", "cylinder", "cone", "disk", "polygon"),
+    ``material``, ``transform``, ``name`` and the shape's keys."""
     __slots__ = ()
     _fields = ("type", "material", "transform", "name", "center", "radius", "point", "normal", "vertices", "uv",
-               "min", "max", "file", "smooth", "triangles", "normals", "uvs")
+               "min", "max", "file", "smooth", "triangles", "normals", "uvs", "base", "apex", "base_radius",
+               "apex_radius", "caps", "inner_radius")
 
 
 class Camera(_View):

@@ -81,6 +81,12 @@ class Object(_View):
     triangles: Optional[List[Any]]
     normals: Optional[List[Any]]
     uvs: Optional[List[Any]]
+    base: Optional[Vec3]
+    apex: Optional[Vec3]
+    base_radius: Optional[float]
+    apex_radius: Optional[float]
+    caps: Optional[bool]
+    inner_radius: Optional[float]
 
 class Camera(_View):
     type: Optional[str]

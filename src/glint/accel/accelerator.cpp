@@ -95,6 +95,25 @@ inline bool intersect_shape(const Scene& scene, const Object& object, uint32_t i
     case ShapeType::mesh:
       return intersect_mesh(scene.meshes[object.shape], mesh_bvhs ? &(*mesh_bvhs)[object.shape] : nullptr, index,
                             ray, hit);
+    case ShapeType::cylinder:
+    case ShapeType::cone:
+      if (auto h = intersect_cone(scene.cones[object.shape], ray)) {
+        hit = Hit{h->t, index, 0, 0, h->part, 0, {}};
+        return true;
+      }
+      return false;
+    case ShapeType::disk:
+      if (auto t = intersect_disk(scene.disks[object.shape], ray)) {
+        hit = Hit{*t, index, 0, 0, 0, 0, {}};
+        return true;
+      }
+      return false;
+    case ShapeType::polygon:
+      if (auto h = intersect_polygon(scene.polygons[object.shape], ray)) {
+        hit = Hit{h->t, index, h->b1, h->b2, 0, h->triangle, {}};
+        return true;
+      }
+      return false;
   }
   return false;
 }

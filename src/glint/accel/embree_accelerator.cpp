@@ -1,8 +1,8 @@
 // The Embree backend: Intel Embree's BVH and kernels behind our Accelerator
 // interface. Each mesh becomes an Embree scene of its own (built once) and
-// each mesh object an instance of it; spheres, boxes and single triangles are
-// one Embree user geometry whose callbacks run our own double-precision
-// tests; infinite planes are tested apart, as in our BVH. Embree traces mesh
+// each mesh object an instance of it; spheres, boxes, single triangles,
+// cylinders, cones, disks and polygons are one Embree user geometry whose
+// callbacks run our own double-precision tests (intersect_object); infinite planes are tested apart, as in our BVH. Embree traces mesh
 // triangles in float; the winning triangle is then re-intersected in double
 // (refine_mesh_hit), so shading sees the same t and barycentrics as with our
 // BVH and the two backends give the same image up to float ties.

@@ -6,6 +6,7 @@
 
 #include "glint/api/scene_state.h"
 #include "glint/io/file_io.h"
+#include "glint/io/nff_file.h"
 #include "glint/io/scene_loader.h"
 
 namespace glint::api {
@@ -145,6 +146,11 @@ glint::Scene check(const Json& document, const Scene::State& from) {
 
 Scene Scene::load(const std::filesystem::path& path) {
   glint::Scene scene = load_scene(path);  // every check, with file:line:col
+  if (is_nff_path(path)) {
+    // An NFF file's document is the glint JSON its reader makes (docs/nff.md).
+    Json document = read_nff_file(path).document;
+    return Scene(make_state(std::move(document), std::move(scene), path.parent_path(), path.string()));
+  }
   const std::vector<unsigned char> bytes = read_file(path);
   size_t skip = bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF ? 3 : 0;
   Json document = Json::parse(bytes.begin() + static_cast<std::ptrdiff_t>(skip), bytes.end());

@@ -30,4 +30,21 @@ inline Vec3 box_face_normal(int face) {
   return n;
 }
 
+// Cylinders and cones (Cone): which part was hit, as Hit::face.
+enum ConePart : int { kConeSide = 0, kConeBaseCap = 1, kConeApexCap = 2 };
+struct ConeHit { double t; int part; };
+// Exact in double: the lateral quadric and the slab between the end planes
+// are each an interval along the ray, and a closed shape is their
+// intersection, whose ends are its entry and exit. A ray through the rim
+// where side and cap meet therefore always finds one of them (no crack);
+// an open shape keeps only the quadric's ends that lie in the slab.
+std::optional<ConeHit> intersect_cone(const Cone& cone, const Ray& ray);
+
+std::optional<double> intersect_disk(const Disk& disk, const Ray& ray);
+
+// A polygon through its triangles (watertight triangle test, so the
+// triangulation's shared edges let no ray through).
+struct PolygonHit { double t, b1, b2; uint32_t triangle; };
+std::optional<PolygonHit> intersect_polygon(const Polygon& polygon, const Ray& ray);
+
 }  // namespace glint

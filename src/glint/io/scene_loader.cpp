@@ -16,9 +16,11 @@
 #include <set>
 #include <sstream>
 
+#include "glint/geometry/polygon.h"
 #include "glint/io/json.h"
 #include "glint/io/memory_limit.h"
 #include "glint/io/mesh_file.h"
+#include "glint/io/nff_file.h"
 #include "glint/io/texture_file.h"
 
 namespace glint {
@@ -836,7 +838,7 @@ class SceneReader {
 
   void read_object(const Value& v, const Path& path) {
     expect_object(v, path);
-    static const Keys types = {"sphere", "plane", "triangle", "box", "mesh"};
+    static const Keys types = {"sphere", "plane", "triangle", "box", "mesh", "cylinder", "cone", "disk", "polygon"};
     const Value type_value = require(v, path, "type");
     const size_t type = choice(type_value, join(path, "type"), types, "object type");
     Keys allowed = {"type", "material", "transform", "name"};
@@ -846,6 +848,10 @@ class SceneReader {
       case 2: allowed.insert(allowed.end(), {"vertices", "uv"}); break;
       case 3: allowed.insert(allowed.end(), {"min", "max"}); break;
       case 4: allowed.insert(allowed.end(), {"file", "smooth", "vertices", "triangles", "normals", "uvs"}); break;
+      case 5: allowed.insert(allowed.end(), {"base", "apex", "radius", "caps"}); break;
+      case 6: allowed.insert(allowed.end(), {"base", "apex", "base_radius", "apex_radius", "caps"}); break;
+      case 7: allowed.insert(allowed.end(), {"center", "normal", "radius", "inner_radius"}); break;
+      case 8: allowed.insert(allowed.end(), {"vertices", "normals"}); break;
     }
     check_keys(v, path, allowed);
     uint32_t material = 0;
@@ -913,8 +919,81 @@ class SceneReader {
         object = add_mesh_object(scene_, mesh, v.find("material") ? material : kMeshMaterials, smooth, transform);
         break;
       }
+      case 5:
+      case 6:
+        object = read_cone(v, path, type == 5, material, transform);
+        break;
+      case 7: {
+        Disk d;
+        d.center = vec3(require(v, path, "center"), join(path, "center"));
+        d.normal = direction(require(v, path, "normal"), join(path, "normal"));
+        d.radius = positive(require(v, path, "radius"), join(path, "radius"));
+        if (auto x = v.find("inner_radius")) {
+          d.inner_radius = non_negative(*x, join(path, "inner_radius"));
+          if (!(d.inner_radius < d.radius))
+            fail(*x, join(path, "inner_radius"),
+                 "must be less than \"radius\" (" + format_number(d.radius) + "; got " + format_number(d.inner_radius) + ")");
+        }
+        object = add_disk(scene_, d, material, transform);
+        break;
+      }
+      case 8:
+        object = read_polygon(v, path, material, transform);
+        break;
     }
     if (auto n = v.find("name")) scene_.object_names[object] = string(*n, join(path, "name"));
+  }
+
+  // A cylinder (base, apex, radius) or a cone (base, apex, base_radius, apex_radius).
+  uint32_t read_cone(const Value& v, const Path& path, bool cylinder, uint32_t material,
+                     const std::optional<Transform>& transform) {
+    const Vec3 base = vec3(require(v, path, "base"), join(path, "base"));
+    const Value apex_value = require(v, path, "apex");
+    const Vec3 apex = vec3(apex_value, join(path, "apex"));
+    if (apex == base) fail(apex_value, join(path, "apex"), "must differ from \"base\" (the axis needs a length)");
+    if (!std::isfinite(length(apex - base)))
+      fail(apex_value, join(path, "apex"), "too far from \"base\" (the axis length overflows)");
+    double r0 = 0, r1 = 0;
+    if (cylinder) {
+      r0 = r1 = positive(require(v, path, "radius"), join(path, "radius"));
+    } else {
+      r0 = non_negative(require(v, path, "base_radius"), join(path, "base_radius"));
+      const Value r1_value = require(v, path, "apex_radius");
+      r1 = non_negative(r1_value, join(path, "apex_radius"));
+      if (r0 == 0 && r1 == 0)
+        fail(r1_value, join(path, "apex_radius"), "\"base_radius\" and \"apex_radius\" cannot both be 0");
+    }
+    bool caps = true;
+    if (auto x = v.find("caps")) caps = boolean(*x, join(path, "caps"));
+    return add_cone(scene_, make_cone(base, apex, r0, r1, caps), material, transform, cylinder);
+  }
+
+  // A polygon: checked and triangulated by make_polygon (geometry/polygon.h).
+  uint32_t read_polygon(const Value& v, const Path& path, uint32_t material, const std::optional<Transform>& transform) {
+    const Value verts = require(v, path, "vertices");
+    const Path vp = join(path, "vertices");
+    if (!verts.is_array()) fail(verts, vp, std::string("expected an array of [x, y, z] vertices, got ") + verts.kind_name());
+    std::vector<Vec3> vertices;
+    vertices.reserve(verts.size());
+    for (size_t i = 0; i < verts.size(); ++i) vertices.push_back(vec3(verts[i], index(vp, i)));
+    std::vector<Vec3> normals;
+    const auto normals_value = v.find("normals");
+    const Path np = join(path, "normals");
+    if (normals_value) {
+      if (!normals_value->is_array())
+        fail(*normals_value, np, std::string("expected an array of [x, y, z] normals, got ") + normals_value->kind_name());
+      if (normals_value->size() != verts.size())
+        fail(*normals_value, np, "expected one normal per vertex (" + std::to_string(verts.size()) + "), got " +
+                                     std::to_string(normals_value->size()));
+      normals.reserve(normals_value->size());
+      for (size_t i = 0; i < normals_value->size(); ++i) normals.push_back(direction((*normals_value)[i], index(np, i)));
+    }
+    PolygonBuild built = make_polygon(std::move(vertices), std::move(normals));
+    if (!built.error.empty()) {
+      if (built.error_at_normals) fail(*normals_value, np, built.error);
+      fail(verts, vp, built.error);
+    }
+    return add_polygon(scene_, std::move(built.polygon), material, transform);
   }
 
   // --- animation (a glint addition, docs/scene-format.md) ----------------
@@ -1107,7 +1186,50 @@ Scene parse_scene(std::string text, const std::string& filename, const std::file
   }
 }
 
+namespace {
+
+// An NFF file (docs/scene-format.md, "NFF scenes") goes through the JSON
+// loader as the document nff_file.h makes of it, so both formats get the same
+// checks; whatever the loader finds is reported at the NFF entity behind it.
+Scene load_nff_scene(const std::filesystem::path& path) {
+  const NffScene nff = read_nff_file(path);
+  NffJsonText json = nff_json_text(nff);
+  Scene scene;
+  try {
+    scene = parse_scene(std::move(json.text), path.string(), path.parent_path());
+  } catch (const Error& e) {
+    throw nff_error(nff, json, e);
+  }
+  // The view's angle spans the rows' centers: fov_y follows the rendered height.
+  scene.camera.row_center_angle = nff.angle;
+  return scene;
+}
+
+std::vector<Error> validate_nff_scene(const std::filesystem::path& path) {
+  std::vector<Error> errors;
+  try {
+    const NffScene nff = read_nff_file(path);
+    const NffJsonText json = nff_json_text(nff);
+    std::vector<Error> found;
+    try {
+      const json::Document doc = json::parse(json.text, path.string());
+      SceneReader(doc, path.parent_path()).read(&found);
+    } catch (const Error& e) {
+      found.push_back(e);
+    }
+    for (const Error& e : found) errors.push_back(nff_error(nff, json, e));
+  } catch (const Error& e) {
+    errors.push_back(e);  // the NFF itself is malformed: nothing more can be checked
+  } catch (const std::bad_alloc&) {
+    errors.push_back(Error(SourceLocation{path.string(), 0, 0}, "out of memory while loading the scene"));
+  }
+  return errors;
+}
+
+}  // namespace
+
 std::vector<Error> validate_scene(const std::filesystem::path& path) {
+  if (is_nff_path(path)) return validate_nff_scene(path);
   std::vector<Error> errors;
   try {
     const json::Document doc = json::parse_file(path.string());
@@ -1121,6 +1243,7 @@ std::vector<Error> validate_scene(const std::filesystem::path& path) {
 }
 
 Scene load_scene(const std::filesystem::path& path) {
+  if (is_nff_path(path)) return load_nff_scene(path);
   const json::Document doc = json::parse_file(path.string());
   try {
     return SceneReader(doc, path.parent_path()).read();

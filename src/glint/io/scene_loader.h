@@ -16,6 +16,7 @@
 
 namespace glint {
 
+// A path ending in .nff (any case) is read as an NFF file (docs/nff.md).
 Scene load_scene(const std::filesystem::path& path);
 
 // Every problem load_scene would find, in file order, without stopping at the

@@ -529,9 +529,10 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
       Watch{rank_timeout, "tiles", {}}, traffic);
   renderer.join();
 
-  uint64_t mine[5] = {rays.camera, rays.shadow, rays.reflection, rays.refraction, traffic.bytes}, sum[5] = {};
+  uint64_t mine[6] = {rays.camera, rays.shadow, rays.reflection, rays.refraction, traffic.bytes, rays.camera_hits},
+           sum[6] = {};
   MPI_Request request;
-  check(MPI_Ireduce(mine, sum, 5, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD, &request), "MPI_Ireduce");
+  check(MPI_Ireduce(mine, sum, 6, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD, &request), "MPI_Ireduce");
   wait_calmly(request, "MPI_Ireduce");
   // Each rank's CPU time in this render: the whole process, and of that its main thread's (MPI).
   const double cpu[2] = {cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - process_cpu,
@@ -542,7 +543,7 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
   check(MPI_Igather(cpu, 2, MPI_DOUBLE, cpus.data(), 2, MPI_DOUBLE, 0, MPI_COMM_WORLD, &request), "MPI_Igather");
   wait_calmly(request, "MPI_Igather");
   if (stats) {
-    stats->rays = RayStats{sum[0], sum[1], sum[2], sum[3]};
+    stats->rays = RayStats{sum[0], sum[1], sum[2], sum[3], sum[5]};
     stats->bytes_sent = sum[4];
     stats->pixel_bytes = pixel_bytes;
     stats->tiles_by_rank = traffic.items_by_rank;

@@ -86,6 +86,7 @@ Json node_json(const Scene& scene, const RayTrace& t) {
     Json hit;
     hit["object"] = t.hit->object;
     hit["name"] = object_name(scene, t.hit->object);
+    hit["type"] = shape_type_name(scene.objects[t.hit->object].type);  // a glint addition
     hit["t"] = t.hit->t;
     hit["point"] = vec(t.surface.p);
     hit["normal"] = vec(t.normal);

@@ -1,5 +1,7 @@
 #include "glint/render/integrator.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -9,6 +11,74 @@
 namespace glint {
 
 namespace {
+
+const Transform* xf_of(const Scene& scene, const Object& object) {
+  return object.transform == kNoTransform ? nullptr : &scene.transforms[object.transform];
+}
+
+// The hit point in the object's own space, from the ray (as the
+// intersection test saw it: same t).
+Vec3 object_point(const Scene& scene, const Object& object, const Ray& ray, double t) {
+  const Transform* xf = xf_of(scene, object);
+  return xf ? xf->inverse_point(ray.origin) + t * xf->inverse_vector(ray.direction) : ray.at(t);
+}
+
+// Point and normal from object space to world space (normal through the
+// inverse transpose), into sp.
+void to_world(const Transform* xf, const Vec3& p_obj, const Vec3& n_obj, SurfacePoint& sp) {
+  sp.p = xf ? xf->point(p_obj) : p_obj;
+  sp.geometric_normal = xf ? normalize(xf->normal(n_obj)) : n_obj;
+}
+
+// A cylinder's or cone's hit: the lateral surface's outward normal, or a
+// cap's axis direction away from the solid (docs: "Quadric and polygon
+// normals"). The point is put back on the surface it hit, which removes
+// the rounding of the ray's arithmetic.
+void cone_geometry(const Cone& c, int part, const Vec3& p_obj, const Transform* xf, SurfacePoint& sp) {
+  const Vec3 rel = p_obj - c.base;
+  const double h = dot(rel, c.axis);
+  const Vec3 radial = rel - h * c.axis;
+  const double rl = length(radial);
+  if (part == kConeBaseCap || part == kConeApexCap) {
+    const bool apex = part == kConeApexCap;
+    to_world(xf, (apex ? c.apex : c.base) + radial, apex ? c.axis : -c.axis, sp);
+    return;
+  }
+  const double k = (c.apex_radius - c.base_radius) / c.length;
+  const double hc = std::clamp(h, 0.0, c.length);
+  // The side's gradient: across the axis, tilted by the slope k (against the
+  // axis where the cone narrows toward the apex).
+  Vec3 out = rl > 0.0 ? radial / rl : c.ref_u;
+  const Vec3 p_side = c.base + hc * c.axis + (c.base_radius + k * hc) * out;
+  to_world(xf, rl > 0.0 ? p_side : p_obj, normalize(out - k * c.axis), sp);
+}
+
+// A polygon's hit: the point on the triangle that was hit, the polygon's
+// normal (first three vertices, by the right-hand rule in world space, as for
+// triangles) and, with vertex normals, their interpolation on that fan triangle.
+void polygon_geometry(const Polygon& poly, const Hit& hit, const Transform* xf, SurfacePoint& sp) {
+  const std::array<uint32_t, 3>& tri = poly.triangles[hit.primitive];
+  const Vec3& v0 = poly.vertices[tri[0]];
+  const Vec3 p_obj = v0 + hit.b1 * (poly.vertices[tri[1]] - v0) + hit.b2 * (poly.vertices[tri[2]] - v0);
+  sp.p = xf ? xf->point(p_obj) : p_obj;
+  if (xf) {
+    const Vec3 e1 = xf->vector(poly.vertices[1] - poly.vertices[0]);
+    const Vec3 e2 = xf->vector(poly.vertices[2] - poly.vertices[0]);
+    sp.geometric_normal = normalize(cross(e1, e2));
+  } else {
+    sp.geometric_normal = poly.normal;
+  }
+  sp.shading_normal = sp.geometric_normal;
+  if (poly.normals.empty()) return;
+  Vec3 n[3];
+  for (int i = 0; i < 3; ++i) {
+    n[i] = poly.normals[tri[i]];  // unit (the loader normalized them)
+    if (xf) n[i] = normalize(xf->normal(n[i]));
+  }
+  const Vec3 s = (1.0 - hit.b1 - hit.b2) * n[0] + hit.b1 * n[1] + hit.b2 * n[2];
+  const double len = length(s);
+  if (len > 0.0 && std::isfinite(len)) sp.shading_normal = s / len;
+}
 
 // Where the hit is and which way the surface faces there.
 SurfacePoint evaluate_geometry(const Scene& scene, const Ray& ray, const Hit& hit) {
@@ -80,6 +150,22 @@ SurfacePoint evaluate_geometry(const Scene& scene, const Ray& ray, const Hit& hi
       if (object.material == kMeshMaterials) sp.material = mesh.triangle_material[hit.primitive];
       return sp;
     }
+    case ShapeType::cylinder:
+    case ShapeType::cone:
+      cone_geometry(scene.cones[object.shape], hit.face, object_point(scene, object, ray, hit.t), xf_of(scene, object),
+                    sp);
+      break;
+    case ShapeType::disk: {
+      const Disk& d = scene.disks[object.shape];
+      Vec3 p_obj = object_point(scene, object, ray, hit.t);
+      p_obj -= dot(p_obj - d.center, d.normal) * d.normal;  // onto the disk's plane exactly
+      to_world(xf_of(scene, object), p_obj, d.normal, sp);
+      break;
+    }
+    case ShapeType::polygon: {
+      polygon_geometry(scene.polygons[object.shape], hit, xf_of(scene, object), sp);
+      return sp;
+    }
     case ShapeType::plane: {
       const Plane& pl = scene.planes[object.shape];
       sp.p = ray.at(hit.t);
@@ -119,6 +205,7 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel)
 
 Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace* trace) const {
   const std::optional<Hit> hit = accel_.intersect(ray);
+  if (hit && depth == 1) ctx.stats.camera_hits++;
   Color color = scene_.render.background;
   if (hit) color = shade_surface(ray, *hit, depth, ctx, trace).sum();
   if (trace) {
@@ -132,6 +219,7 @@ Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrac
 
 Color Integrator::cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth,
                                     TraceContext& ctx) const {
+  if (hit && depth == 1) ctx.stats.camera_hits++;
   return hit ? shade_surface(ray, *hit, depth, ctx).sum() : scene_.render.background;
 }
 
@@ -148,6 +236,7 @@ CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::opt
     out.terms.ambient = scene_.render.background;
     return out;
   }
+  ctx.stats.camera_hits++;
   out.terms = shade_surface(ray, *hit, 1, ctx);
   // Evaluated again (cheap, no random numbers) rather than widening
   // shade_surface's interface for the camera ray alone.
@@ -257,9 +346,11 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, 
   const Vec3 d = normalize(ray.direction);
   const Vec3 v = -d;
   // Two-sided surfaces: shade with the normal on the viewer's side.
-  const bool entering = dot(sp.shading_normal, d) < 0.0;
-  const Vec3 n = entering ? sp.shading_normal : -sp.shading_normal;
-  const Vec3 ng = dot(sp.geometric_normal, d) < 0.0 ? sp.geometric_normal : -sp.geometric_normal;
+  const Vec3 n = dot(sp.shading_normal, d) < 0.0 ? sp.shading_normal : -sp.shading_normal;
+  // Inside and outside come from the geometric normal (the contract): a
+  // smooth normal may face the other way than the surface near silhouettes.
+  const bool entering = dot(sp.geometric_normal, d) < 0.0;
+  const Vec3 ng = entering ? sp.geometric_normal : -sp.geometric_normal;
   // Secondary rays leave from just off the surface: shadow and reflected rays
   // on the incoming side, refracted rays on the far side.
   const Vec3 above = sp.p + epsilon_ * ng;

@@ -17,9 +17,11 @@ namespace glint {
 
 struct RayStats {
   uint64_t camera = 0, shadow = 0, reflection = 0, refraction = 0;
+  uint64_t camera_hits = 0;  // camera rays (depth 1) that hit a surface: the SPD's "eye rays that hit"
   uint64_t total() const { return camera + shadow + reflection + refraction; }
   RayStats& operator+=(const RayStats& o) {
     camera += o.camera; shadow += o.shadow; reflection += o.reflection; refraction += o.refraction;
+    camera_hits += o.camera_hits;
     return *this;
   }
 };

@@ -95,6 +95,16 @@ UV barycentric_uv(const UV& a, const UV& b, const UV& c, double b1, double b2) {
   return {b0 * a.u + b1 * b.u + b2 * c.u, b0 * a.v + b1 * b.v + b2 * c.v};
 }
 
+// A disk of radius r (offset q from its center, unit normal n) covers the
+// unit square once: the square of side 2r around it, along the plane frame
+// of n, so that u and v run from 0 to 1 across the disk (0.5 at the center).
+UV disk_uv(const Vec3& q, const Vec3& n, double r) {
+  Vec3 e_u, e_v;
+  plane_frame(n, e_u, e_v);
+  if (!(r > 0)) return {0.5, 0.5};
+  return {0.5 + dot(q, e_u) / (2.0 * r), 0.5 + dot(q, e_v) / (2.0 * r)};
+}
+
 }  // namespace
 
 UV surface_uv(const Scene& scene, const Hit& hit, const Vec3& p) {
@@ -132,6 +142,35 @@ UV surface_uv(const Scene& scene, const Hit& hit, const Vec3& p) {
       const auto it = scene.triangle_uvs.find(object.shape);
       const std::array<UV, 3>& c = it == scene.triangle_uvs.end() ? kDefault : it->second;
       return barycentric_uv(c[0], c[1], c[2], hit.b1, hit.b2);
+    }
+    case ShapeType::cylinder:
+    case ShapeType::cone: {
+      const Cone& c = scene.cones[object.shape];
+      const Vec3 rel = to_object(p) - c.base;
+      const double h = dot(rel, c.axis);
+      const Vec3 radial = rel - h * c.axis;
+      if (hit.face == kConeSide) {
+        // Angle about the axis by the right-hand rule from ref_u, and height.
+        const double angle = std::atan2(dot(radial, cross(c.axis, c.ref_u)), dot(radial, c.ref_u));
+        double u = angle / (2.0 * std::numbers::pi);
+        if (u < 0) u += 1.0;
+        return {u, h / c.length};
+      }
+      // A cap: its square of side 2r, as a disk with the cap's outward normal.
+      const bool apex = hit.face == kConeApexCap;
+      return disk_uv(radial, apex ? c.axis : -c.axis, apex ? c.apex_radius : c.base_radius);
+    }
+    case ShapeType::disk: {
+      const Disk& d = scene.disks[object.shape];
+      return disk_uv(to_object(p) - d.center, d.normal, d.radius);
+    }
+    case ShapeType::polygon: {
+      // As a plane through vertex 0 with the polygon's normal, in object space.
+      const Polygon& poly = scene.polygons[object.shape];
+      Vec3 e_u, e_v;
+      plane_frame(poly.normal, e_u, e_v);
+      const Vec3 q = to_object(p) - poly.vertices[0];
+      return {dot(q, e_u), dot(q, e_v)};
     }
     case ShapeType::mesh: {
       const Mesh& mesh = scene.meshes[object.shape];

@@ -129,6 +129,13 @@ void move_object(Scene& scene, const ObjectTracks& tr, const std::optional<Trans
     case ShapeType::sphere: add_sphere(scene, scene.spheres[old.shape], old.material, xf); break;
     case ShapeType::box: add_box(scene, scene.boxes[old.shape], old.material, xf); break;
     case ShapeType::mesh: add_mesh_object(scene, old.shape, old.material, old.smooth, xf); break;
+    // Kept in object space like spheres: a copy of the shape with the frame's transform.
+    case ShapeType::cylinder:
+    case ShapeType::cone:
+      add_cone(scene, Cone(scene.cones[old.shape]), old.material, xf, old.type == ShapeType::cylinder);
+      break;
+    case ShapeType::disk: add_disk(scene, Disk(scene.disks[old.shape]), old.material, xf); break;
+    case ShapeType::polygon: add_polygon(scene, Polygon(scene.polygons[old.shape]), old.material, xf); break;
     case ShapeType::plane: {
       const Plane p{tr.object_space[0], tr.object_space[1]};
       add_plane(scene, p, old.material, xf);

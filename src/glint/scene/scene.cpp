@@ -1,6 +1,7 @@
 #include "glint/scene/scene.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace glint {
 
@@ -74,6 +75,44 @@ uint32_t add_box(Scene& scene, const Box& box, uint32_t material,
                     add_transform(scene, transform));
 }
 
+Cone make_cone(const Vec3& base, const Vec3& apex, double base_radius, double apex_radius, bool caps) {
+  Cone c;
+  c.base = base;
+  c.apex = apex;
+  c.base_radius = base_radius;
+  c.apex_radius = apex_radius;
+  c.caps = caps;
+  const Vec3 d = apex - base;
+  c.length = length(d);
+  c.axis = d / c.length;
+  // u = 0 lies along the plane frame's e_u of the axis (as for a plane with
+  // that normal): +x for a +y axis.
+  const Vec3& a = c.axis;
+  const bool y_largest = std::abs(a.y) >= std::abs(a.x) && std::abs(a.y) >= std::abs(a.z);
+  c.ref_u = normalize(cross(a, y_largest ? Vec3(0, 0, 1) : Vec3(0, -1, 0)));
+  return c;
+}
+
+uint32_t add_cone(Scene& scene, const Cone& cone, uint32_t material, const std::optional<Transform>& transform,
+                  bool cylinder) {
+  scene.cones.push_back(cone);
+  return add_object(scene, cylinder ? ShapeType::cylinder : ShapeType::cone, scene.cones.size() - 1, material,
+                    add_transform(scene, transform));
+}
+
+uint32_t add_disk(Scene& scene, const Disk& disk, uint32_t material, const std::optional<Transform>& transform) {
+  scene.disks.push_back(disk);
+  return add_object(scene, ShapeType::disk, scene.disks.size() - 1, material, add_transform(scene, transform));
+}
+
+uint32_t add_polygon(Scene& scene, Polygon polygon, uint32_t material, const std::optional<Transform>& transform) {
+  polygon.bounds = Bounds3{};
+  for (const Vec3& v : polygon.vertices) polygon.bounds.extend(v);
+  scene.polygons.push_back(std::move(polygon));
+  return add_object(scene, ShapeType::polygon, scene.polygons.size() - 1, material,
+                    add_transform(scene, transform));
+}
+
 uint32_t add_mesh(Scene& scene, Mesh mesh) {
   mesh.bounds = Bounds3{};
   for (const Vec3f& p : mesh.positions) mesh.bounds.extend(to_vec3(p));
@@ -87,6 +126,20 @@ uint32_t add_mesh_object(Scene& scene, uint32_t mesh, uint32_t material, bool sm
   scene.objects[index].smooth = smooth;
   return index;
 }
+
+namespace {
+
+// Box around a disk of radius r centered at c with unit normal n: along axis
+// i it reaches r * sqrt(1 - n_i^2), padded a little against rounding so the
+// box never cuts the shape.
+void extend_disk(Bounds3& b, const Vec3& c, const Vec3& n, double r) {
+  Vec3 e;
+  for (int i = 0; i < 3; ++i) e[i] = r * std::sqrt(std::max(0.0, 1.0 - n[i] * n[i])) * (1.0 + 1e-12);
+  b.extend(c - e);
+  b.extend(c + e);
+}
+
+}  // namespace
 
 Bounds3 object_bounds(const Scene& scene, uint32_t index) {
   const Object& object = scene.objects[index];
@@ -111,6 +164,21 @@ Bounds3 object_bounds(const Scene& scene, uint32_t index) {
     }
     case ShapeType::mesh:
       b = scene.meshes[object.shape].bounds;
+      break;
+    case ShapeType::cylinder:
+    case ShapeType::cone: {
+      const Cone& c = scene.cones[object.shape];
+      extend_disk(b, c.base, c.axis, c.base_radius);
+      extend_disk(b, c.apex, c.axis, c.apex_radius);
+      break;
+    }
+    case ShapeType::disk: {
+      const Disk& d = scene.disks[object.shape];
+      extend_disk(b, d.center, d.normal, d.radius);
+      break;
+    }
+    case ShapeType::polygon:
+      b = scene.polygons[object.shape].bounds;
       break;
     case ShapeType::plane:
       return b;

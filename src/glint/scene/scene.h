@@ -60,6 +60,12 @@ struct Camera {
   Vec3 up{0, 1, 0};
   double fov_y = 45.0;       // degrees, perspective
   double view_height = 2.0;  // world units, orthographic
+  // Degrees between the centers of the first and last pixel rows (an NFF
+  // view's `angle`). When set, the perspective fov_y is derived from it for
+  // the height actually rendered (camera_fov_y in render/camera.h), so a
+  // --height override keeps the file's view; fov_y then holds the value for
+  // the file's own resolution. Not a JSON key: only NFF scenes set it.
+  std::optional<double> row_center_angle;
 };
 
 // Surface coordinates for textures (docs/scene-format.md: "Textures").
@@ -131,12 +137,58 @@ struct Light {
   std::string name;
 };
 
-enum class ShapeType : uint8_t { sphere, plane, triangle, box, mesh };
+// New types go at the end: tools count objects by these values.
+enum class ShapeType : uint8_t { sphere, plane, triangle, box, mesh, cylinder, cone, disk, polygon };
+inline constexpr int kShapeTypeCount = 9;
+// The scene file's name of each type ("sphere", ..., "polygon").
+inline const char* shape_type_name(ShapeType t) {
+  static constexpr const char* kNames[kShapeTypeCount] = {"sphere", "plane",    "triangle", "box",    "mesh",
+                                                          "cylinder", "cone", "disk",     "polygon"};
+  return kNames[static_cast<int>(t)];
+}
 
 struct Sphere { Vec3 center; double radius = 1.0; };
 struct Plane { Vec3 point; Vec3 normal{0, 1, 0}; };  // world space, unit normal
 struct Triangle { Vec3 v0, v1, v2; };                 // world space
 struct Box { Vec3 lo, hi; };                          // object space
+
+// A cone frustum between two disks on its axis, in object space: `base` with
+// base_radius and `apex` with apex_radius (one of them may be 0: a pointed
+// cone). A cylinder is the same shape with equal radii, so both object types
+// use this struct and Scene::cones. The axis frame is derived once by
+// make_cone, for the intersection test and (u, v).
+struct Cone {
+  Vec3 base, apex;
+  double base_radius = 1, apex_radius = 1;
+  bool caps = true;  // closed by a disk at each end whose radius is > 0
+  // Derived (make_cone): unit axis from base to apex, its length, and a
+  // unit reference direction across the axis where u = 0 (docs: "Surface coordinates").
+  Vec3 axis{0, 1, 0};
+  double length = 1;
+  Vec3 ref_u{1, 0, 0};
+};
+Cone make_cone(const Vec3& base, const Vec3& apex, double base_radius, double apex_radius, bool caps);
+
+// A flat ring in object space: the points of the plane through `center`
+// with unit `normal` whose distance from the center is in [inner_radius, radius].
+struct Disk {
+  Vec3 center;
+  Vec3 normal{0, 1, 0};
+  double radius = 1, inner_radius = 0;
+};
+
+// A simple planar polygon in object space, triangulated once (a fan when
+// convex, ear clipping otherwise) so that rays meet it through the watertight
+// triangle test. `normal` is the right-hand-rule normal of the first three
+// vertices (unit); `normals`, when given, are unit vertex normals for smooth
+// shading (the polygon is then convex and `triangles` is the fan (0, i, i+1)).
+struct Polygon {
+  std::vector<Vec3> vertices;
+  std::vector<Vec3> normals;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  Vec3 normal{0, 0, 1};
+  Bounds3 bounds;
+};
 
 // A triangle mesh in its own space, loaded once per file and shared by every
 // object that uses it (each object an instance with its own transform).
@@ -157,8 +209,10 @@ inline constexpr uint32_t kNoTransform = UINT32_MAX;
 inline constexpr uint32_t kMeshMaterials = UINT32_MAX;
 
 // One object of the scene file. `shape` indexes the vector of its type;
-// `transform` indexes Scene::transforms (spheres and boxes keep theirs and are
-// intersected in object space; planes and triangles are baked into world space).
+// `transform` indexes Scene::transforms (spheres, boxes, cylinders, cones,
+// disks, polygons and meshes keep theirs and are intersected in object space;
+// planes and triangles are baked into world space). Cylinders and cones both
+// index Scene::cones.
 struct Object {
   ShapeType type = ShapeType::sphere;
   bool smooth = true;  // meshes: interpolate vertex normals
@@ -177,6 +231,9 @@ struct Scene {
   std::vector<Plane> planes;
   std::vector<Triangle> triangles;
   std::vector<Box> boxes;
+  std::vector<Cone> cones;  // cylinders and cones
+  std::vector<Disk> disks;
+  std::vector<Polygon> polygons;
   std::vector<Mesh> meshes;
   std::vector<Transform> transforms;
   std::vector<Texture> textures;
@@ -205,6 +262,16 @@ uint32_t add_triangle(Scene& scene, const Triangle& triangle, uint32_t material 
                       const std::optional<Transform>& transform = std::nullopt);
 uint32_t add_box(Scene& scene, const Box& box, uint32_t material = 0,
                  const std::optional<Transform>& transform = std::nullopt);
+
+// A cylinder is a cone whose radii are equal (make_cone); `cylinder` only
+// decides which type the object reports (glint info).
+uint32_t add_cone(Scene& scene, const Cone& cone, uint32_t material = 0,
+                  const std::optional<Transform>& transform = std::nullopt, bool cylinder = false);
+uint32_t add_disk(Scene& scene, const Disk& disk, uint32_t material = 0,
+                  const std::optional<Transform>& transform = std::nullopt);
+// The polygon as make_polygon (geometry/polygon.h) returns it: triangulated.
+uint32_t add_polygon(Scene& scene, Polygon polygon, uint32_t material = 0,
+                     const std::optional<Transform>& transform = std::nullopt);
 
 uint32_t add_mesh(Scene& scene, Mesh mesh);  // computes mesh.bounds
 uint32_t add_mesh_object(Scene& scene, uint32_t mesh, uint32_t material = kMeshMaterials, bool smooth = true,
