@@ -27,16 +27,18 @@ See docs/python.md for a worked example.
 from __future__ import annotations
 
 import json as _json
-import math as _math
 import os as _os
 import tempfile as _tempfile
 import threading as _threading
-from typing import Any, Callable, Dict, Iterator, Optional, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Dict, Iterator, Optional, Sequence
 
 import numpy as _np
 
 from . import _glint
 from ._glint import CancelToken, SceneError
+
+if TYPE_CHECKING:  # for the annotations only
+    import os
 
 __version__: str = _glint.__version__
 
