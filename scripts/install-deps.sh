@@ -11,6 +11,7 @@ PACKAGES=(
   assimp-testmodels
   libopenmpi-dev openmpi-bin
   python3 python3-jsonschema
+  python3-pytest python3-numpy pybind11-dev python3-pybind11 python3-venv python3-setuptools python3-pip
   "$@"
 )
 missing=()

@@ -51,6 +51,10 @@ bool embree_available();
 struct PrepareOptions {
   int threads = 0;  // threads that build the acceleration structure; 0: all cores
   Accel accel = Accel::bvh;
+  // An animated scene (its "animation") is rendered as it is at this frame,
+  // as `glint render --frames N` renders it; a still scene has frame 0 only.
+  // An animated scene's acceleration structure is rebuilt on every update().
+  int frame = 0;
 };
 
 struct RenderOptions {
@@ -61,7 +65,9 @@ struct RenderOptions {
   // Only pixels [x0, x1) x [y0, y1) are rendered (the rest stay 0), when
   // x1 > x0 and y1 > y0; the pixels are those of the whole image.
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  // Called on the calling thread about ten times a second, fraction done.
+  // Called on the calling thread with the fraction done: once with 0 before
+  // any pixel, about ten times a second while rendering, and with 1 at the end
+  // (unless cancelled).
   std::function<void(double)> progress;
   // When it becomes true the render stops within a row of pixels;
   // RenderResult::complete is then false.
