@@ -13,6 +13,7 @@
 #include "glint/glint.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/renderer.h"
+#include "glint/scene/animation.h"
 
 namespace fs = std::filesystem;
 using glint::api::Renderer;
@@ -211,6 +212,130 @@ TEST(Api, VersionIsTheProjects) {
   EXPECT_STREQ(glint::version(), GLINT_VERSION_STRING);
   EXPECT_EQ(std::string(glint::version()).substr(0, 2), std::to_string(GLINT_VERSION_MAJOR) + ".");
 }
+
+TEST(Api, ErrorsCarryTheirPathApartFromTheMessage) {
+  Scene scene = Scene::from_json(kTwoSpheres, {}, "two.json");
+  try {
+    scene.set("materials.red.shininess", -3.0);
+    FAIL() << "accepted";
+  } catch (const glint::Error& e) {
+    EXPECT_EQ(e.path(), "materials.red.shininess");
+    EXPECT_EQ(e.message(), "materials.red.shininess: must be > 0 (got -3)");
+  }
+  try {
+    scene.set_json("lights[0].position", "[1, 2]");
+    FAIL() << "accepted";
+  } catch (const glint::Error& e) {
+    EXPECT_EQ(e.path(), "lights[0].position");
+  }
+  try {
+    (void)Scene::from_json("{ \"camera\": {} }", {}, "t.json");
+    FAIL() << "accepted";
+  } catch (const glint::Error& e) {
+    EXPECT_EQ(e.path(), "camera");
+    EXPECT_EQ(e.location().file, "t.json");
+    EXPECT_EQ(e.location().line, 1);
+  }
+  try {
+    (void)Scene::from_json("{ not json", {}, "t.json");
+    FAIL() << "accepted";
+  } catch (const glint::Error& e) {
+    EXPECT_EQ(e.path(), "");  // a syntax error is at a place in the text, not a value
+  }
+}
+
+namespace {
+
+// A 3 x 3 grid of vertices, bumped in the middle: 8 triangles, smooth normals
+// computed from its faces. Coordinates are short dyadic fractions, written
+// exactly by both the OBJ text and the JSON.
+const char* kGridVertices = "[[-1,0,-1],[0,0,-1],[1,0,-1],[-1,0,0],[0,0.5,0],[1,0,0],[-1,0,1],[0,0,1],[1,0,1]]";
+const char* kGridTriangles = "[[0,3,1],[1,3,4],[1,4,2],[2,4,5],[3,6,4],[4,6,7],[4,7,5],[5,7,8]]";
+
+std::string grid_scene(const std::string& mesh_keys) {
+  return std::string(R"({ "render": { "width": 40, "height": 30 },
+    "camera": { "position": [0, 2.5, 3], "look_at": [0, 0, 0] },
+    "lights": [ { "type": "point", "position": [-2, 4, 3] } ],
+    "objects": [ { "type": "mesh", )") + mesh_keys + " } ] }";
+}
+
+}  // namespace
+
+TEST(Api, InlineMeshRendersAsTheSameMeshFromAnObjFile) {
+  const fs::path dir = fs::temp_directory_path() / "glint_api_inline_mesh";
+  fs::create_directories(dir);
+  {
+    std::ofstream obj(dir / "grid.obj");
+    const nlohmann::json v = nlohmann::json::parse(kGridVertices), t = nlohmann::json::parse(kGridTriangles);
+    for (const auto& p : v) obj << "v " << p[0].get<double>() << " " << p[1].get<double>() << " " << p[2].get<double>() << "\n";
+    for (const auto& f : t) obj << "f " << f[0].get<int>() + 1 << " " << f[1].get<int>() + 1 << " " << f[2].get<int>() + 1 << "\n";
+  }
+  for (const char* smooth : {"true", "false"}) {
+    SCOPED_TRACE(smooth);
+    const std::string s = std::string(", \"smooth\": ") + smooth;
+    const Scene from_file = Scene::from_json(grid_scene(R"("file": "grid.obj")" + s), dir);
+    const Scene inline_mesh = Scene::from_json(
+        grid_scene(std::string("\"vertices\": ") + kGridVertices + ", \"triangles\": " + kGridTriangles + s));
+    const auto a = glint::api::render(from_file).image.rgb, b = glint::api::render(inline_mesh).image.rgb;
+    EXPECT_EQ(a, b);
+    EXPECT_GT(*std::max_element(b.begin(), b.end()), 0.1f);
+    // And written back, it is the same scene.
+    EXPECT_EQ(glint::api::render(Scene::from_json(inline_mesh.to_json())).image.rgb, b);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(Api, InlineMeshProblemsAreNamedByTheirPath) {
+  const std::string v = std::string("\"vertices\": ") + kGridVertices;
+  const std::string t = std::string("\"triangles\": ") + kGridTriangles;
+  auto error_of = [](const std::string& keys) -> std::string {
+    try {
+      (void)Scene::from_json(grid_scene(keys), {}, "t.json");
+    } catch (const glint::Error& e) {
+      return e.message();
+    }
+    return "accepted";
+  };
+  EXPECT_EQ(error_of(v + R"(, "triangles": [[0, 1, 9]])"),
+            "objects[0].triangles[0][2]: vertex index 9 out of range (9 vertices)");
+  EXPECT_EQ(error_of(v + R"(, "triangles": [[0, 1, -1]])"),
+            "objects[0].triangles[0][2]: vertex index -1 out of range (9 vertices)");
+  EXPECT_EQ(error_of(v + R"(, "triangles": [[0, 1.5, 2]])"), "objects[0].triangles[0][1]: expected a whole number, got 1.5");
+  EXPECT_EQ(error_of(v + R"(, "triangles": [[0, 1]])"),
+            "objects[0].triangles[0]: expected [i, j, k] (three vertex indices), got an array of 2");
+  EXPECT_EQ(error_of(R"("vertices": [[0, 0, 0], [1, 0, 1e300], [0, 1, 0]], )" + t.substr(0, 0) + R"("triangles": [[0, 1, 2]])"),
+            "objects[0].vertices[1]: does not fit in a 32-bit float");
+  EXPECT_EQ(error_of(R"("vertices": [[0, 0, 0], [1, 0, 0], [2, 0, 0]], "triangles": [[0, 1, 2]])"),
+            "objects[0]: no triangles (the only one is degenerate)");
+  EXPECT_EQ(error_of(v + ", " + t + R"(, "normals": [[0, 1, 0]])"), "objects[0].normals: expected one per vertex (9), got 1");
+  EXPECT_EQ(error_of(v + ", " + t + R"(, "file": "x.obj")"),
+            "objects[0].file: give either \"file\" or inline \"vertices\" and \"triangles\", not both");
+  EXPECT_EQ(error_of(v), "objects[0]: missing required key \"triangles\"");
+  EXPECT_EQ(error_of(v + ", " + t), "accepted");
+}
+
+TEST(Api, AnAnimatedSceneRendersTheFrameAsked) {
+  const fs::path path = fs::path(GLINT_SOURCE_DIR) / "scenes" / "animation" / "rolling.json";
+  Scene scene = Scene::load(path);
+  scene.set("render.width", 32);
+  scene.set("render.height", 20);
+  const glint::Scene internal = glint::parse_scene(scene.to_json(), "r.json", scene.base_dir());
+  for (int frame : {0, 5}) {
+    const glint::Scene posed = glint::scene_at_frame(internal, frame);
+    const auto accel = glint::build_accelerator(posed);
+    glint::api::PrepareOptions options;
+    options.frame = frame;
+    EXPECT_EQ(Renderer(scene, options).render().image.rgb, glint::render_image(posed, *accel).rgb) << frame;
+  }
+  glint::api::PrepareOptions outside;
+  outside.frame = 100000;
+  EXPECT_THROW(Renderer(scene, outside), glint::Error);
+  // A material edit reaches the posed frame.
+  Renderer renderer(scene);
+  const auto before = renderer.render().image.rgb;
+  scene.set_json("render.background", "[1, 0, 0]");
+  renderer.update(scene);
+  EXPECT_NE(renderer.render().image.rgb, before);
 
 // The preview of `glint serve`: another size or sample count over the same
 // accelerator gives exactly the render of the scene edited to that size.

@@ -22,8 +22,18 @@ class Error : public std::runtime_error {
       : std::runtime_error(format(location, message)),
         location_(std::move(location)),
         message_(std::move(message)) {}
+  // A problem at a value of the scene document: message() is "path: what",
+  // as the loader has always written it, and path() the path alone
+  // ("materials.floor.shininess"), so a binding can name it without parsing.
+  Error(SourceLocation location, std::string path, const std::string& what)
+      : Error(std::move(location), path.empty() ? what : path + ": " + what) {
+    path_ = std::move(path);
+  }
 
   const SourceLocation& location() const { return location_; }
+  // Where in the scene document the problem is; empty when none applies
+  // (a file that is not JSON, a broken mesh file, an I/O error).
+  const std::string& path() const { return path_; }
   // The problem alone, without the location prefix that what() carries.
   const std::string& message() const { return message_; }
 
@@ -41,6 +51,7 @@ class Error : public std::runtime_error {
  private:
   SourceLocation location_;
   std::string message_;
+  std::string path_;
 };
 
 }  // namespace glint

@@ -59,6 +59,10 @@ bool embree_available();
 struct PrepareOptions {
   int threads = 0;  // threads that build the acceleration structure; 0: all cores
   Accel accel = Accel::bvh;
+  // An animated scene (its "animation") is rendered as it is at this frame,
+  // as `glint render --frames N` renders it; a still scene has frame 0 only.
+  // An animated scene's acceleration structure is rebuilt on every update().
+  int frame = 0;
 };
 
 struct RenderOptions {
@@ -76,7 +80,9 @@ struct RenderOptions {
   // scene's description for the render; the acceleration structure is kept.
   int width = 0, height = 0;
   int samples_per_pixel = 0;
-  // Called on the calling thread about ten times a second, fraction done.
+  // Called on the calling thread with the fraction done: once with 0 before
+  // any pixel, about ten times a second while rendering, and with 1 at the end
+  // (unless cancelled).
   std::function<void(double)> progress;
   // When it becomes true the render stops within a row of pixels;
   // RenderResult::complete is then false.

@@ -12,6 +12,7 @@
 #include "glint/render/explain.h"
 #include "glint/render/passes.h"
 #include "glint/render/renderer.h"
+#include "glint/scene/animation.h"
 #include "glint/version.h"
 
 namespace glint {
@@ -85,18 +86,28 @@ struct Renderer::State {
 
   explicit State(const Scene& s, const PrepareOptions& o) : scene(s), options(o) { build(); }
 
+  bool animated() const { return frame_count(*scene.state()->scene) > 1; }
+
   void build() {
     const auto start = std::chrono::steady_clock::now();
     AcceleratorOptions ao;
     ao.threads = options.threads;
     ao.backend = options.accel == Accel::embree ? AccelBackend::embree : AccelBackend::bvh;
-    built_on = scene.state()->scene;
+    const int frames = frame_count(*scene.state()->scene);
+    if (options.frame < 0 || options.frame >= frames)
+      throw Error("frame " + std::to_string(options.frame) + " is not in the scene (it has " + std::to_string(frames) +
+                  (frames == 1 ? " frame)" : " frames)"));
+    // An animated scene is posed at the frame: camera and objects moved.
+    built_on = frames > 1 ? std::make_shared<const glint::Scene>(scene_at_frame(*scene.state()->scene, options.frame))
+                          : scene.state()->scene;
     accel = build_accelerator(*built_on, ao);
     geometry_key = scene.geometry_key();
     build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ++builds;
   }
-  const glint::Scene& internal() const { return *scene.state()->scene; }
+  // What render() and explain draw: the scene, or the posed frame of an
+  // animated one (rebuilt with it on every update).
+  const glint::Scene& internal() const { return animated() ? *built_on : *scene.state()->scene; }
 };
 
 Renderer::Renderer(const Scene& scene, const PrepareOptions& options)
@@ -107,7 +118,7 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 void Renderer::update(const Scene& scene) {
   state_->scene = scene;
-  if (scene.geometry_key() != state_->geometry_key) state_->build();
+  if (scene.geometry_key() != state_->geometry_key || state_->animated()) state_->build();
 }
 
 const Scene& Renderer::scene() const { return state_->scene; }
@@ -162,6 +173,9 @@ RenderResult Renderer::render(const RenderOptions& options) const {
   ro.cancel = options.cancel;
   glint::RenderStats stats;
   RenderResult result;
+  // Once before any pixel, so a caller can cancel (or learn of a cancel, as
+  // a binding checking for Ctrl-C does) even in a render too short for a tick.
+  if (options.progress) options.progress(0.0);
   result.complete = render_tiles(scene, *state_->accel, image, progress, ro, &stats,
                                  passes.empty() ? nullptr : &pass_images);
   if (region) {

@@ -29,7 +29,7 @@ std::vector<Step> parse_path(std::string_view path) {
   std::vector<Step> steps;
   size_t i = 0;
   auto bad = [&](const std::string& why) -> Error {
-    return Error("bad path \"" + std::string(path) + "\": " + why);
+    return Error(SourceLocation{}, std::string(path), "bad path: " + why);
   };
   while (i < path.size()) {
     if (path[i] == '[') {
@@ -97,7 +97,7 @@ Json* find(Json& root, const std::vector<Step>& steps, bool create, std::string_
 
 Json parse_value(std::string_view json_text, std::string_view what) {
   Json v = Json::parse(json_text.begin(), json_text.end(), nullptr, false);
-  if (v.is_discarded()) throw Error(std::string(what) + ": not valid JSON: " + std::string(json_text));
+  if (v.is_discarded()) throw Error(SourceLocation{}, std::string(what), "not valid JSON: " + std::string(json_text.substr(0, 80)));
   return v;
 }
 
@@ -138,7 +138,8 @@ glint::Scene check(const Json& document, const Scene::State& from) {
   try {
     return parse_scene(document.dump(), from.name, from.base_dir);
   } catch (const Error& e) {
-    throw Error(SourceLocation{from.name, 0, 0}, e.message());
+    if (e.path().empty() || e.message().size() < e.path().size() + 2) throw Error(SourceLocation{from.name, 0, 0}, e.message());
+    throw Error(SourceLocation{from.name, 0, 0}, e.path(), e.message().substr(e.path().size() + 2));
   }
 }
 
@@ -174,7 +175,7 @@ const std::string& Scene::name() const { return state_->name; }
 std::string Scene::get(std::string_view path) const {
   Json copy = state_->document;  // find() wants a mutable root; documents are small
   const Json* v = find(copy, parse_path(path), false, path);
-  if (!v) throw Error(SourceLocation{state_->name, 0, 0}, std::string(path) + ": not in the scene");
+  if (!v) throw Error(SourceLocation{state_->name, 0, 0}, std::string(path), "not in the scene");
   return v->dump();
 }
 
@@ -196,7 +197,7 @@ std::shared_ptr<const Scene::State> edited(const Scene::State& from, const std::
 
 void set_value(Json& document, std::string_view path, Json value) {
   Json* at = find(document, parse_path(path), true, path);
-  if (!at) throw Error(std::string(path) + ": no such place in the scene");
+  if (!at) throw Error(SourceLocation{}, std::string(path), "no such place in the scene");
   *at = std::move(value);
 }
 
@@ -233,7 +234,7 @@ void Scene::erase(std::string_view path) {
       return;
     }
     if (parent && !last.is_index && parent->is_object() && parent->erase(last.key) == 1) return;
-    throw Error(std::string(path) + ": not in the scene");
+    throw Error(SourceLocation{}, std::string(path), "not in the scene");
   });
 }
 
@@ -241,9 +242,9 @@ void Scene::append_json(std::string_view array_path, std::string_view json_value
   Json value = parse_value(json_value, array_path);
   state_ = edited(*state_, [&](Json& d) {
     Json* at = find(d, parse_path(array_path), true, array_path);
-    if (!at) throw Error(std::string(array_path) + ": no such place in the scene");
+    if (!at) throw Error(SourceLocation{}, std::string(array_path), "no such place in the scene");
     if (at->is_null()) *at = Json::array();
-    if (!at->is_array()) throw Error(std::string(array_path) + ": not an array");
+    if (!at->is_array()) throw Error(SourceLocation{}, std::string(array_path), "not an array");
     at->push_back(std::move(value));
   });
 }

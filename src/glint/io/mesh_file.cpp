@@ -417,6 +417,33 @@ MeshFile finish(RawMesh raw, const std::string& file, bool vertex_normals) {
   return out;
 }
 
+}  // namespace
+
+MeshFile mesh_from_arrays(std::vector<Vec3f> positions, std::vector<uint32_t> indices,
+                          const std::vector<Vec3f>& normals, const std::vector<UVf>& uvs, const std::string& name,
+                          bool vertex_normals) {
+  RawMesh raw;
+  raw.positions = std::move(positions);
+  raw.indices = std::move(indices);
+  // Per-vertex values become per-corner ones, as a file's would be.
+  auto corners = [&](const auto& per_vertex, auto& out) {
+    out.reserve(raw.indices.size());
+    using T = std::decay_t<decltype(per_vertex[0])>;
+    for (uint32_t i : raw.indices) out.push_back(i < per_vertex.size() ? per_vertex[i] : T{});
+  };
+  if (!normals.empty()) {
+    corners(normals, raw.normals);
+    raw.has_normals = true;
+  }
+  if (!uvs.empty()) {
+    corners(uvs, raw.uvs);
+    raw.has_uvs = true;
+  }
+  return finish(std::move(raw), name, vertex_normals);
+}
+
+namespace {
+
 // ---------------------------------------------------------------------------
 // Wavefront OBJ and MTL (tinyobjloader)
 // ---------------------------------------------------------------------------

@@ -52,4 +52,14 @@ struct MeshFile {
 MeshFile load_mesh_file(const std::filesystem::path& path, size_t memory_budget = default_memory_budget(),
                         bool vertex_normals = true);
 
+// A mesh given as arrays (the scene format's inline mesh, a glint addition):
+// per-vertex `normals` and `uvs` (each empty or one per position), with the
+// same rules as a file whose every corner uses one index for its position,
+// UV and normal (an OBJ `f a/a/a`): degenerate triangles dropped with a
+// warning, missing or zero normals computed. `name` is what warnings and
+// errors call the mesh. The caller has checked that indices are in range.
+MeshFile mesh_from_arrays(std::vector<Vec3f> positions, std::vector<uint32_t> indices,
+                          const std::vector<Vec3f>& normals, const std::vector<UVf>& uvs, const std::string& name,
+                          bool vertex_normals = true);
+
 }  // namespace glint

@@ -164,7 +164,7 @@ class SceneReader {
   }
 
   [[noreturn]] void fail(const Value& at, const Path& path, const std::string& what) const {
-    throw Error(at.location(), path.empty() ? what : path.str() + ": " + what);
+    throw Error(at.location(), path.empty() ? std::string() : path.str(), what);
   }
 
   static Path join(const Path& path, std::string_view key) { return Path(path, key); }
@@ -188,7 +188,7 @@ class SceneReader {
         what += " (did you mean \"" + hint + "\"?)";
       else
         what += " (expected one of " + quoted_list(allowed) + ")";
-      throw Error(obj.key_location(i), path.empty() ? what : path.str() + ": " + what);
+      throw Error(obj.key_location(i), path.empty() ? std::string() : path.str(), what);
     }
   }
 
@@ -321,7 +321,7 @@ class SceneReader {
                                                           : Keys{"type", "radius", "b", "c"};
     for (size_t i = 0; i < v.size(); ++i)
       if (std::find(allowed.begin(), allowed.end(), v.key(i)) == allowed.end())
-        throw Error(v.key_location(i), path.str() + ": key \"" + std::string(v.key(i)) + "\" does not apply to the " +
+        throw Error(v.key_location(i), path.str(), "key \"" + std::string(v.key(i)) + "\" does not apply to the " +
                                            std::string(names[static_cast<size_t>(f.type)]) + " filter");
     if (auto r = v.find("radius")) {
       f.radius = positive(*r, "render.pixel_filter.radius");
@@ -452,7 +452,7 @@ class SceneReader {
     // An error at `key` of this object (the key, not its value, is what is misplaced).
     auto fail_at_key = [&](std::string_view key, const std::string& what) {
       for (size_t k = 0; k < v.size(); ++k)
-        if (v.key(k) == key) throw Error(v.key_location(k), join(path, key).str() + ": " + what);
+        if (v.key(k) == key) throw Error(v.key_location(k), join(path, key).str(), what);
     };
     Texture t;
     if (image && checker) fail_at_key("checker", "give either \"texture\" or \"checker\", not both");
@@ -553,7 +553,7 @@ class SceneReader {
                                      "attenuation", "corner", "edge_u", "edge_v", "samples"};
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end() &&
           std::find(any_light.begin(), any_light.end(), key) != any_light.end())
-        throw Error(v.key_location(k), join(path, key).str() + ": not valid for " +
+        throw Error(v.key_location(k), join(path, key).str(), std::string("not valid for ") +
                                            (light.type == LightType::ambient || light.type == LightType::area ? "an " : "a ") + type_name + " light");
     }
     check_keys(v, path, allowed);
@@ -730,6 +730,100 @@ class SceneReader {
     return index;
   }
 
+  // --- inline meshes (a glint addition, docs/scene-format.md) -----------
+  // "vertices" [[x,y,z]...], "triangles" [[i,j,k]...] (0-based), optional
+  // per-vertex "normals" [[x,y,z]...] and "uvs" [[u,v]...]: a mesh that
+  // lives in the scene document itself (what glint.Scene.add_mesh writes),
+  // with the rules of a mesh file (mesh_from_arrays) and every problem named
+  // by its path in the document.
+  uint32_t inline_mesh(const Value& v, const Path& path, bool smooth) {
+    for (size_t k = 0; k < v.size(); ++k)
+      if (v.key(k) == "file")
+        throw Error(v.key_location(k), join(path, "file").str(),
+                    "give either \"file\" or inline \"vertices\" and \"triangles\", not both");
+    const Value verts = require(v, path, "vertices");
+    const Path vp = join(path, "vertices");
+    expect_array(verts, vp);
+    const Value tris = require(v, path, "triangles");
+    const Path tp = join(path, "triangles");
+    expect_array(tris, tp);
+    if (verts.size() > UINT32_MAX) fail(verts, vp, "more than 2^32 - 1 vertices");
+    // Counted with the mesh files: all of them, with their BVHs, must fit.
+    mesh_vertices_ += verts.size();
+    mesh_triangles_ += tris.size();
+    const std::string excess = exceeds_budget(
+        kBytesPerVertex * double(mesh_vertices_) + kBytesPerTriangle * double(mesh_triangles_), memory_budget_);
+    if (!excess.empty())
+      fail(v, path, "with this mesh the scene's meshes hold " + std::to_string(mesh_triangles_) + " triangles: that " +
+                        excess);
+    std::vector<Vec3f> positions(verts.size());
+    for (size_t i = 0; i < verts.size(); ++i) positions[i] = float_vec3(verts[i], index(vp, i));
+    std::vector<uint32_t> indices(3 * tris.size());
+    for (size_t t = 0; t < tris.size(); ++t) {
+      const Value tri = tris[t];
+      const Path p = index(tp, t);
+      if (!tri.is_array() || tri.size() != 3)
+        fail(tri, p, std::string("expected [i, j, k] (three vertex indices), got ") +
+                         (tri.is_array() ? "an array of " + std::to_string(tri.size()) : std::string(tri.kind_name())));
+      for (size_t k = 0; k < 3; ++k) {
+        const Path ip = index(p, k);
+        const double x = number(tri[k], ip);
+        if (!tri[k].is_integer() || x != std::floor(x)) fail(tri[k], ip, "expected a whole number, got " + format_number(x));
+        if (!(x >= 0 && x < double(verts.size())))
+          fail(tri[k], ip, "vertex index " + format_number(x) + " out of range (" + std::to_string(verts.size()) +
+                               (verts.size() == 1 ? " vertex)" : " vertices)"));
+        indices[3 * t + k] = static_cast<uint32_t>(x);
+      }
+    }
+    auto per_vertex = [&](std::string_view key) -> std::optional<Value> {
+      const auto a = v.find(key);
+      if (!a) return std::nullopt;
+      const Path ap = join(path, key);
+      expect_array(*a, ap);
+      if (a->size() != verts.size())
+        fail(*a, ap, "expected one per vertex (" + std::to_string(verts.size()) + "), got " + std::to_string(a->size()));
+      return a;
+    };
+    std::vector<Vec3f> normals;
+    if (auto n = per_vertex("normals")) {
+      normals.resize(n->size());
+      for (size_t i = 0; i < n->size(); ++i) normals[i] = float_vec3((*n)[i], index(join(path, "normals"), i));
+    }
+    std::vector<UVf> uvs;
+    if (auto u = per_vertex("uvs")) {
+      uvs.resize(u->size());
+      for (size_t i = 0; i < u->size(); ++i) {
+        const Path up = index(join(path, "uvs"), i);
+        const std::array<double, 2> c = pair((*u)[i], up);
+        uvs[i] = {static_cast<float>(c[0]), static_cast<float>(c[1])};
+        if (!std::isfinite(uvs[i].u) || !std::isfinite(uvs[i].v)) fail((*u)[i], up, "does not fit in a 32-bit float");
+      }
+    }
+    MeshFile built;
+    try {
+      built = mesh_from_arrays(std::move(positions), std::move(indices), normals, uvs, path.str(), smooth);
+    } catch (const Error& e) {
+      fail(v, path, e.message());  // "no triangles (all 2 are degenerate)"
+    }
+    for (std::string& w : built.warnings) scene_.warnings.push_back(std::move(w));
+    Mesh mesh;
+    mesh.file = path.str();  // no file: the object's path names it (geometry keys, messages)
+    mesh.positions = std::move(built.positions);
+    mesh.indices = std::move(built.indices);
+    mesh.corner_normals = std::move(built.corner_normals);
+    mesh.corner_uvs = std::move(built.corner_uvs);
+    mesh.triangle_material.assign(mesh.triangle_count(), 0);  // the default material, as a file without one
+    return add_mesh(scene_, std::move(mesh));
+  }
+
+  // [x, y, z] stored as floats (meshes are): each component must fit.
+  Vec3f float_vec3(const Value& v, const Path& path) const {
+    const Vec3f f = to_vec3f(vec3(v, path));
+    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z))
+      fail(v, path, "does not fit in a 32-bit float");
+    return f;
+  }
+
   uint32_t material_ref(const Value& v, const Path& path) const {
     const std::string name = string(v, path);
     auto it = material_index_.find(name);
@@ -754,7 +848,7 @@ class SceneReader {
       case 1: allowed.insert(allowed.end(), {"point", "normal"}); break;
       case 2: allowed.insert(allowed.end(), {"vertices", "uv"}); break;
       case 3: allowed.insert(allowed.end(), {"min", "max"}); break;
-      case 4: allowed.insert(allowed.end(), {"file", "smooth"}); break;
+      case 4: allowed.insert(allowed.end(), {"file", "smooth", "vertices", "triangles", "normals", "uvs"}); break;
       case 5: allowed.insert(allowed.end(), {"base", "apex", "radius", "caps"}); break;
       case 6: allowed.insert(allowed.end(), {"base", "apex", "base_radius", "apex_radius", "caps"}); break;
       case 7: allowed.insert(allowed.end(), {"center", "normal", "radius", "inner_radius"}); break;
@@ -814,10 +908,15 @@ class SceneReader {
         break;
       }
       case 4: {
-        const Value file = require(v, path, "file");
-        const uint32_t mesh = load_mesh(file, join(path, "file"));
         bool smooth = true;
         if (auto x = v.find("smooth")) smooth = boolean(*x, join(path, "smooth"));
+        uint32_t mesh = 0;
+        if (v.find("vertices") || v.find("triangles")) {
+          mesh = inline_mesh(v, path, smooth);
+        } else {
+          const Value file = require(v, path, "file");
+          mesh = load_mesh(file, join(path, "file"));
+        }
         object = add_mesh_object(scene_, mesh, v.find("material") ? material : kMeshMaterials, smooth, transform);
         break;
       }
@@ -996,7 +1095,7 @@ class SceneReader {
       if (n->as_string() == name) named.push_back(j);
     }
     auto fail_name = [&](const std::string& what) {
-      throw Error(keyed.key_location(m), Path(path, name).str() + ": " + what);
+      throw Error(keyed.key_location(m), Path(path, name).str(), what);
     };
     if (named.empty()) {
       std::string what = "unknown object " + quote_text(name);

@@ -1,0 +1,122 @@
+"""Python renders against the glint CLI: bit-identical .pfm for every
+example scene, to_dict() written to a file renders the same (and validates
+against docs/scene.schema.json), passes sum to the image, explain's color is
+the pixel of a 1-spp render."""
+import json
+import pathlib
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import glint
+
+W, H = 64, 40  # small: the whole suite stays quick; the same for both sides
+
+
+def example_scenes(root):
+    return sorted(p for p in (root / "scenes").rglob("*.json"))
+
+
+def cli_render(cli, scene_path, out_dir, *extra, sized=True):
+    """The CLI's image of a scene at W x H (sized) or its own size, as exact
+    floats from its .pfm."""
+    p = pathlib.Path(scene_path)
+    animated = p.suffix == ".json" and "animation" in json.loads(p.read_text(encoding="utf-8-sig"))
+    out = out_dir / ("frame_%d.pfm" if animated else "out.pfm")
+    cmd = [cli, "render", str(scene_path), "-o", str(out), "--threads", "2"]
+    if sized:
+        cmd += ["--width", str(W), "--height", str(H)]
+    if animated:
+        cmd += ["--frames", "0"]
+    subprocess.run(cmd + list(extra), check=True, capture_output=True)
+    return glint.read_image(out_dir / ("frame_0.pfm" if animated else "out.pfm"))
+
+
+def bits(a):
+    return np.ascontiguousarray(a, dtype=np.float32).view(np.uint32)
+
+
+@pytest.fixture(scope="module")
+def scenes_copy(root, tmp_path_factory):
+    """A copy of scenes/ (its meshes and textures too), to write to_dict()
+    files beside the scenes they came from."""
+    dst = tmp_path_factory.mktemp("scenes") / "scenes"
+    shutil.copytree(root / "scenes", dst)
+    return dst
+
+
+def test_every_example_scene_renders_bit_identical_to_the_cli(root, cli, tmp_path):
+    scenes = example_scenes(root)
+    assert len(scenes) >= 10
+    for path in scenes:
+        scene = glint.load(path)
+        ours = glint.render(scene, width=W, height=H).image
+        out = tmp_path / path.stem
+        out.mkdir()
+        theirs = cli_render(cli, path, out)
+        assert ours.shape == (H, W, 3), path
+        assert np.array_equal(bits(ours), bits(theirs)), f"{path}: differs from the CLI"
+        assert ours.max() > 0, path
+
+
+def test_an_nff_scene_renders_bit_identical_to_the_cli(root, cli, tmp_path):
+    path = root / "bench" / "spd" / "tetra.nff"
+    if not path.exists():
+        pytest.skip("no NFF scene in this tree")
+    # At the file's own resolution: the CLI's --height also re-derives an NFF's
+    # fov_y (docs/nff.md), which an override of the document's height does not.
+    ours = glint.render(glint.load(path)).image
+    theirs = cli_render(cli, path, tmp_path, sized=False)
+    assert np.array_equal(bits(ours), bits(theirs)) and ours.max() > 0
+
+
+def test_to_dict_written_to_a_file_renders_identically_and_validates(root, cli, scenes_copy, tmp_path):
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads((root / "docs" / "scene.schema.json").read_text())
+    for path in example_scenes(scenes_copy):
+        scene = glint.load(path)
+        scene.materials  # noqa: B018 (views do not change the document)
+        d = scene.to_dict()
+        jsonschema.validate(d, schema)
+        again = path.with_name(path.stem + ".from-python.json")
+        again.write_text(json.dumps(d))
+        a, b = tmp_path / (path.stem + "-a"), tmp_path / (path.stem + "-b")
+        a.mkdir(), b.mkdir()
+        assert np.array_equal(bits(cli_render(cli, path, a)), bits(cli_render(cli, again, b))), path
+
+
+def test_an_edited_scene_written_back_renders_as_python_rendered_it(cli, small, tmp_path):
+    small.materials["red"].shininess = 7
+    small.lights[0].position = (2, 4, 3)
+    small.add_mesh(np.array([[-2, 0.01, -1], [2, 0.01, -1], [0, 2, -2]], np.float32), np.array([[0, 1, 2]]),
+                   material="floor")
+    path = tmp_path / "edited.json"
+    path.write_text(json.dumps(small.to_dict()))
+    assert np.array_equal(bits(glint.render(small, width=W, height=H).image), bits(cli_render(cli, path, tmp_path)))
+
+
+def test_passes_sum_to_the_image(root):
+    scene = glint.load(root / "scenes" / "showcase.json")
+    light = ["ambient", "diffuse", "specular", "reflection", "transmission"]
+    r = glint.render(scene, width=W, height=H, passes=light + ["depth", "normal"])
+    total = sum(r.passes[p].astype(np.float64) for p in light)
+    assert np.allclose(total, r.image, rtol=0, atol=1e-5)
+    for p in light:
+        assert r.passes[p].shape == (H, W, 3) and r.passes[p].dtype == np.float32
+    assert r.passes["depth"].shape == (H, W)
+    assert r.passes["diffuse"].max() > 0.05 and r.passes["specular"].max() > 0.05
+    # depth of a pixel on the floor: positive and finite where something is hit
+    assert np.isfinite(r.passes["depth"]).any() and r.passes["depth"].max() > 0
+
+
+def test_explain_color_is_the_pixel_of_a_one_sample_render(root):
+    scene = glint.load(root / "scenes" / "showcase.json")
+    scene.render_settings.width, scene.render_settings.height = W, H
+    image = glint.render(scene, spp=1).image
+    for x, y in [(10, 30), (32, 20), (50, 5), (0, 0)]:
+        e = glint.explain(scene, x, y)
+        assert e["pixel"] == [x, y]
+        assert [np.float32(c) for c in e["color"]] == list(image[y, x]), (x, y)
+    assert "pixel" in glint.explain(scene, 3, 4, text=True)

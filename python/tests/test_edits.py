@@ -1,0 +1,191 @@
+"""Edits change exactly what the formulas say; every bad input raises
+(SceneError or ValueError / TypeError) naming its path, and leaves the scene
+as it was."""
+import copy
+import json
+
+import numpy as np
+import pytest
+
+import glint
+
+LIGHT = ["ambient", "diffuse", "specular", "reflection", "transmission"]
+
+
+def bits(a):
+    return np.ascontiguousarray(a, dtype=np.float32).view(np.uint32)
+
+
+def test_views_read_and_write_the_document(small):
+    m = small.materials["red"]
+    assert m.shininess == 40 and m.diffuse == (0.8, 0.2, 0.1) and m.reflectivity is None
+    m.shininess = 100
+    small.lights[0].position = (1, 5, 2)
+    small.camera.look_at = np.array([0.0, 0.4, 0.0])
+    small.render_settings.samples_per_pixel = 16
+    d = small.to_dict()
+    assert d["materials"]["red"]["shininess"] == 100
+    assert d["lights"][0]["position"] == [1, 5, 2]
+    assert d["camera"]["look_at"] == [0.0, 0.4, 0.0]
+    assert d["render"]["samples_per_pixel"] == 16
+    assert small.get("materials.red.shininess") == 100
+    del m.shininess  # back to the default
+    assert "shininess" not in small.to_dict()["materials"]["red"]
+    assert list(small.materials) == ["red", "floor"] and "red" in small.materials and len(small.lights) == 1
+
+
+def test_adding_and_removing_materials_lights_objects(small):
+    before = small.to_dict()
+    small.materials["blue"] = {"diffuse": [0.1, 0.1, 0.9]}
+    small.lights.append({"type": "directional", "direction": [0, -1, -1], "diffuse": 0.3})
+    small.objects.append({"type": "sphere", "center": [0, 2, -2], "radius": 0.4, "material": "blue"})
+    assert len(small.lights) == 2 and len(small.objects) == 4 and small.objects[3].material == "blue"
+    with pytest.raises(glint.SceneError) as e:
+        del small.materials["blue"]  # still in use
+    assert "blue" in str(e.value)
+    del small.objects[3]
+    del small.materials["blue"]
+    del small.lights[1]
+    assert small.to_dict() == before
+
+
+def test_specular_zero_zeroes_the_specular_pass_and_nothing_else(small):
+    a = glint.render(small, passes=LIGHT)
+    for name in small.materials:
+        small.materials[name].specular = 0
+    b = glint.render(small, passes=LIGHT)
+    assert a.passes["specular"].max() > 0.05
+    assert not b.passes["specular"].any()
+    for p in ("ambient", "diffuse"):
+        assert np.array_equal(bits(a.passes[p]), bits(b.passes[p])), p
+
+
+def test_doubling_the_one_lights_diffuse_doubles_the_diffuse_pass(small):
+    small.lights[0].diffuse = 0.5
+    a = glint.render(small, passes=LIGHT)
+    small.lights[0].diffuse = 1.0
+    b = glint.render(small, passes=LIGHT)
+    assert a.passes["diffuse"].max() > 0.05
+    assert np.array_equal(bits(2 * a.passes["diffuse"]), bits(b.passes["diffuse"]))
+    assert np.array_equal(bits(a.passes["ambient"]), bits(b.passes["ambient"]))
+    assert np.array_equal(bits(a.passes["specular"]), bits(b.passes["specular"]))
+
+
+def test_a_material_or_light_edit_reuses_the_geometry(small):
+    assert glint.render(small).stats["builds"] == 1
+    small.materials["red"].diffuse = (0.1, 0.9, 0.1)
+    small.lights[0].position = (2, 5, 1)
+    small.camera.position = (0.5, 1, 6)
+    r = glint.render(small, width=20, height=10, spp=2)
+    assert r.stats["builds"] == 1
+    assert np.array_equal(bits(r.image), bits(glint.render(small.copy(), width=20, height=10, spp=2).image))
+    small.objects[1].radius = 0.7  # geometry: built again
+    assert glint.render(small).stats["builds"] == 2
+
+
+def test_render_overrides_leave_the_scene_alone(small):
+    r = glint.render(small, width=12, height=8, spp=2)
+    assert r.image.shape == (8, 12, 3)
+    assert small.render_settings.width == 40 and small.render_settings.samples_per_pixel is None
+
+
+# Each: an edit (a function of the scene), the exception class, the path named.
+BAD_EDITS = [
+    ("negative", lambda s: setattr(s.materials["red"], "shininess", -3), glint.SceneError,
+     "materials.red.shininess"),
+    ("wrong type", lambda s: setattr(s.materials["red"], "shininess", "shiny"), glint.SceneError,
+     "materials.red.shininess"),
+    ("NaN", lambda s: setattr(s.materials["red"], "shininess", float("nan")), ValueError,
+     "materials.red.shininess"),
+    ("inf", lambda s: setattr(s.lights[0], "position", (1, float("inf"), 2)), ValueError, "lights[0].position"),
+    ("numpy NaN", lambda s: setattr(s.camera, "look_at", np.array([0, np.nan, 0])), ValueError, "camera.look_at"),
+    ("two numbers", lambda s: setattr(s.lights[0], "position", (1, 2)), glint.SceneError, "lights[0].position"),
+    ("not JSON", lambda s: setattr(s.lights[0], "position", object()), TypeError, "lights[0].position"),
+    ("unknown key", lambda s: setattr(s.materials["red"], "shinyness", 3), glint.SceneError,
+     'materials.red: unknown key "shinyness" (did you mean "shininess"?)'),
+    ("unknown material", lambda s: setattr(s.objects[0], "material", "gold"), glint.SceneError,
+     "objects[0].material"),
+    ("camera at look_at", lambda s: setattr(s.camera, "position", (0, 0.5, 0)), glint.SceneError, "camera"),
+    ("zero width", lambda s: setattr(s.render_settings, "width", 0), glint.SceneError, "render.width"),
+    ("huge width", lambda s: setattr(s.render_settings, "width", 2**40), glint.SceneError, "render.width"),
+    ("fraction", lambda s: setattr(s.render_settings, "samples_per_pixel", 1.5), glint.SceneError,
+     "render.samples_per_pixel"),
+    ("bad light", lambda s: s.lights.append({"type": "point"}), glint.SceneError, "lights[1]"),
+    ("bad object", lambda s: s.objects.append({"type": "sphere", "radius": 1}), glint.SceneError, "objects[3]"),
+    ("bad material", lambda s: s.materials.__setitem__("m", {"diffuse": -1}), glint.SceneError,
+     "materials.m.diffuse"),
+    ("in use", lambda s: s.materials.__delitem__("floor"), glint.SceneError, "floor"),
+    ("by path", lambda s: s.set("objects[0].radius", -1), glint.SceneError, "objects[0].radius"),
+    ("no such object", lambda s: s.set("objects[9].radius", 1), glint.SceneError, "objects[9].radius"),
+    ("render width", lambda s: glint.render(s, width=-5), glint.SceneError, "render.width"),
+    ("render spp type", lambda s: glint.render(s, spp="many"), TypeError, "spp"),
+    ("render pass", lambda s: glint.render(s, passes=["difuse"]), ValueError, "passes"),
+    ("render accel", lambda s: glint.render(s, accel="kd-tree"), ValueError, "accel"),
+    ("explain outside", lambda s: glint.explain(s, 40, 0), glint.SceneError, "40"),
+    ("mesh shape", lambda s: s.add_mesh(np.zeros((3, 2)), np.array([[0, 1, 2]])), ValueError, "vertices"),
+    ("mesh dtype", lambda s: s.add_mesh(np.zeros((3, 3)), np.array([[0.0, 1, 2]])), TypeError, "triangles"),
+    ("mesh index", lambda s: s.add_mesh(np.eye(3), np.array([[0, 1, 3]], np.int32)), ValueError, "triangles[0]"),
+    ("mesh negative", lambda s: s.add_mesh(np.eye(3), np.array([[0, -1, 2]])), ValueError, "triangles[0]"),
+    ("mesh NaN", lambda s: s.add_mesh(np.array([[0, 0, 0], [1, 0, np.nan], [0, 1, 0]]), np.array([[0, 1, 2]])),
+     ValueError, "vertices[1]"),
+    ("mesh too big for float", lambda s: s.add_mesh(np.array([[0, 0, 0], [1e300, 0, 0], [0, 1, 0]]),
+                                                    np.array([[0, 1, 2]])), ValueError, "vertices[1]"),
+    ("mesh normals", lambda s: s.add_mesh(np.eye(3), np.array([[0, 1, 2]]), normals=np.zeros((2, 3))), ValueError,
+     "normals"),
+    ("mesh strings", lambda s: s.add_mesh(np.array([["a", "b", "c"]] * 3), np.array([[0, 1, 2]])), TypeError,
+     "vertices"),
+    ("mesh degenerate", lambda s: s.add_mesh(np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0]]), np.array([[0, 1, 2]])),
+     glint.SceneError, "objects[3]"),
+    ("mesh material", lambda s: s.add_mesh(np.eye(3), np.array([[0, 1, 2]]), material="gold"), glint.SceneError,
+     "objects[3].material"),
+]
+
+
+@pytest.mark.parametrize("what,edit,error,path", BAD_EDITS, ids=[b[0] for b in BAD_EDITS])
+def test_bad_input_raises_naming_the_path_and_changes_nothing(small, what, edit, error, path):
+    before = small.to_json()
+    with pytest.raises(error) as e:
+        edit(small)
+    assert path in str(e.value), f"{what}: {e.value}"
+    if isinstance(e.value, glint.SceneError) and e.value.path is not None:
+        assert str(e.value).endswith(e.value.message)
+    assert small.to_json() == before
+    assert glint.render(small).image.max() > 0  # and it still renders
+
+
+def test_scene_error_carries_the_clis_message(cli, tmp_path):
+    import subprocess
+    bad = tmp_path / "bad.json"
+    bad.write_text('{\n  "camera": { "position": [0, 0, 5], "look_at": [0, 0, 0] },\n'
+                   '  "materials": { "m": { "shininess": -1 } },\n  "objects": []\n}\n')
+    with pytest.raises(glint.SceneError) as e:
+        glint.load(bad)
+    err = e.value
+    assert (err.file, err.line, err.column, err.path) == (str(bad), 3, 38, "materials.m.shininess")
+    assert err.message == "materials.m.shininess: must be > 0 (got -1)"
+    out = subprocess.run([cli, "render", str(bad), "-o", str(tmp_path / "x.png")], capture_output=True, text=True)
+    assert out.returncode != 0
+    assert out.stderr.strip() == f"error: {err}"
+
+
+def test_loading_problems_are_scene_errors(tmp_path):
+    with pytest.raises(glint.SceneError) as e:
+        glint.loads('{ "camera": { "position": [0, 0, 5], ', name="t.json")
+    assert e.value.file == "t.json" and e.value.line == 1 and e.value.path is None
+    with pytest.raises(glint.SceneError) as e:
+        glint.load(tmp_path / "missing.json")
+    assert "missing.json" in str(e.value)
+    with pytest.raises(TypeError):
+        glint.Scene.from_dict([1, 2])
+    with pytest.raises(TypeError):
+        glint.loads(42)
+
+
+def test_from_dict_resolves_relative_files_against_base_dir(root):
+    d = json.loads((root / "scenes" / "meshes" / "bunny.json").read_text())
+    with pytest.raises(glint.SceneError) as e:
+        glint.Scene.from_dict(d, base_dir=root)
+    assert e.value.path.endswith(".file")
+    scene = glint.Scene.from_dict(d, base_dir=root / "scenes" / "meshes")
+    assert scene.to_dict() == d
+    assert copy.deepcopy(scene).to_dict() == d

@@ -1,0 +1,58 @@
+"""Builds the Python module glint with CMake (pip install ., see docs/python.md).
+
+Only the native target _glint is built, portably (GLINT_NATIVE=OFF: no
+-march=native, so the module runs on any x86-64 CPU, not just the one that
+built it), without tests, benchmarks or MPI. Extra CMake arguments can be
+given in the environment variable CMAKE_ARGS; CMAKE_BUILD_PARALLEL_LEVEL
+sets the build's jobs.
+"""
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
+
+ROOT = Path(__file__).resolve().parent
+
+
+def version():
+    text = (ROOT / "CMakeLists.txt").read_text()
+    return re.search(r"project\(glint VERSION ([0-9.]+)", text).group(1)
+
+
+class CMakeBuild(build_ext):
+    def build_extension(self, ext):
+        out_dir = Path(self.get_ext_fullpath(ext.name)).resolve().parent
+        build_dir = Path(self.build_temp).resolve() / "cmake"
+        build_dir.mkdir(parents=True, exist_ok=True)
+        args = [
+            "-DCMAKE_BUILD_TYPE=Release",
+            "-DGLINT_NATIVE=OFF",
+            "-DGLINT_PYTHON=ON",
+            "-DGLINT_BUILD_TESTS=OFF",
+            "-DGLINT_BUILD_BENCH=OFF",
+            "-DGLINT_MPI=OFF",
+            f"-DPython_EXECUTABLE={sys.executable}",
+            f"-DGLINT_PYTHON_OUTPUT_DIR={out_dir}",
+        ]
+        if shutil.which("ninja"):
+            args.append("-GNinja")
+        args += shlex.split(os.environ.get("CMAKE_ARGS", ""))
+        subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build_dir)] + args, check=True)
+        subprocess.run(["cmake", "--build", str(build_dir), "--target", "_glint"], check=True)
+
+
+setup(
+    version=version(),
+    packages=["glint"],
+    package_dir={"": "python"},
+    package_data={"glint": ["__init__.pyi", "py.typed"]},
+    ext_modules=[Extension("glint._glint", sources=[])],
+    cmdclass={"build_ext": CMakeBuild},
+    zip_safe=False,
+)
