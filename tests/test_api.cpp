@@ -336,6 +336,7 @@ TEST(Api, AnAnimatedSceneRendersTheFrameAsked) {
   scene.set_json("render.background", "[1, 0, 0]");
   renderer.update(scene);
   EXPECT_NE(renderer.render().image.rgb, before);
+}
 
 // The preview of `glint serve`: another size or sample count over the same
 // accelerator gives exactly the render of the scene edited to that size.
