@@ -35,6 +35,9 @@
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
 #include "glint/io/file_io.h"
+#ifdef GLINT_HAVE_SERVE
+#include "glint/serve/serve.h"
+#endif
 
 namespace {
 
@@ -837,6 +840,17 @@ int main(int argc, char** argv) {
   explain->add_option("--shading-model", explain_args.shading_model, "phong or blinn-phong")
       ->check(one_of({"phong", "blinn-phong"}, "shading model"));
 
+#ifdef GLINT_HAVE_SERVE
+  glint::serve::ServeOptions serve_options;
+  CLI::App* serve = app.add_subcommand("serve", "live preview in the browser: edit, render and explain (docs/preview.md)");
+  serve->add_option("scene", serve_options.scene_path, "scene file (JSON)")->required();
+  serve->add_option("--port", serve_options.port, "TCP port (0: any free port; the address is printed)")
+      ->check(whole_number_in(0, 65535));
+  serve->add_option("--host", serve_options.host, "address to listen on (default 127.0.0.1: this machine only)");
+  serve->add_option("--threads", serve_options.threads, "render threads (default: all cores)")
+      ->check(whole_number_in(1, 1024));
+#endif
+
   // CLI11 words a missing or unknown command as "A subcommand is required": be precise.
   if (argc <= 1) {
     print_error("no command given (usage: glint render SCENE.json -o OUT.png; see glint --help)");
@@ -880,6 +894,9 @@ int main(int argc, char** argv) {
     if (validate->parsed()) return run_validate(validate_path, validate_quiet);
     if (info->parsed()) return run_info(info_path);
     if (convert->parsed()) return run_convert(convert_input, convert_output);
+#ifdef GLINT_HAVE_SERVE
+    if (serve->parsed()) return glint::serve::run(serve_options);
+#endif
   } catch (const Interrupted& e) {
     print_error(e.what);
     return 128 + g_signal.load();

@@ -11,9 +11,12 @@ PACKAGES=(
   assimp-testmodels
   libopenmpi-dev openmpi-bin
   python3 python3-jsonschema
+  libcpp-httplib-dev chromium nodejs
   python3-pytest python3-numpy pybind11-dev python3-pybind11 python3-venv python3-setuptools python3-pip
   "$@"
 )
+# glint serve's browser tests need npm (Debian's npm; some nodejs builds bundle it).
+command -v npm >/dev/null || PACKAGES+=(npm)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -3,7 +3,9 @@
 // of the acceleration structure, ownership.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -334,4 +336,99 @@ TEST(Api, AnAnimatedSceneRendersTheFrameAsked) {
   scene.set_json("render.background", "[1, 0, 0]");
   renderer.update(scene);
   EXPECT_NE(renderer.render().image.rgb, before);
+}
+
+// The preview of `glint serve`: another size or sample count over the same
+// accelerator gives exactly the render of the scene edited to that size.
+TEST(Api, PreviewSizeAndSamplesEqualTheEditedScene) {
+  Scene scene = Scene::from_json(kTwoSpheres);
+  scene.set("render.samples_per_pixel", 4);
+  Renderer renderer(scene);
+  glint::api::RenderOptions options;
+  options.width = 12;
+  options.height = 8;
+  options.samples_per_pixel = 1;
+  const auto preview = renderer.render(options);
+  Scene small = scene;
+  small.set("render.width", 12);
+  small.set("render.height", 8);
+  small.set("render.samples_per_pixel", 1);
+  const auto expected = glint::api::render(small);
+  ASSERT_EQ(preview.image.width, 12);
+  ASSERT_EQ(preview.image.height, 8);
+  EXPECT_EQ(preview.image.rgb, expected.image.rgb);
+  EXPECT_EQ(preview.stats.camera_rays, 12u * 8u);
+  EXPECT_EQ(preview.stats.builds, 1);
+  // The full render afterwards is untouched by the preview.
+  EXPECT_EQ(renderer.render().image.rgb, glint::api::render(scene).image.rgb);
+  options.width = 0;
+  options.height = 0;
+  options.samples_per_pixel = glint::kMaxSamplesPerPixel + 1;
+  EXPECT_THROW(renderer.render(options), glint::Error);
+}
+
+TEST(Api, EncodeImageGivesTheBytesOfTheFile) {
+  const Scene scene = Scene::from_json(kTwoSpheres);
+  glint::api::RenderOptions options;
+  options.passes = {"normal"};
+  const auto result = glint::api::render(scene, options);
+  const fs::path dir = fs::temp_directory_path() / "glint_api_encode";
+  fs::create_directories(dir);
+  auto file_bytes = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {});
+  };
+  glint::api::WriteOptions exposed;
+  exposed.exposure = 1.5;
+  exposed.tonemap = glint::api::ToneMap::aces;
+  for (const char* ext : {"png", "pfm", "ppm"}) {
+    const fs::path file = dir / (std::string("a.") + ext);
+    glint::api::write_image(result.image, file, exposed);
+    EXPECT_EQ(glint::api::encode_image(result.image, ext, exposed), file_bytes(file)) << ext;
+  }
+  // A data pass in 8 bits: n * 0.5 + 0.5 as codes, so a normal (0, 1, 0)
+  // from the floor's top reads (128, 255, 128) whatever the exposure.
+  const auto png = glint::api::encode_image(result.passes.at("normal"), ".png", exposed, "normal");
+  const fs::path normal = dir / "normal.png";
+  {
+    std::ofstream out(normal, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  }
+  const auto back = glint::api::read_image(normal);
+  const float* bottom = &back.rgb[3 * static_cast<size_t>((back.height - 1) * back.width)];
+  EXPECT_NEAR(bottom[1], 1.0f, 1e-6);
+  EXPECT_THROW(glint::api::encode_image(result.image, "gif"), glint::Error);
+  EXPECT_THROW(glint::api::encode_image(result.image, "png", {}, "shiny"), glint::Error);
+  fs::remove_all(dir);
+}
+
+// A bare mesh file is a scene: the documented rig around its bounding sphere.
+TEST(Api, MeshFileIsFramedByTheRig) {
+  const fs::path dir = fs::temp_directory_path() / "glint_api_mesh_scene";
+  fs::create_directories(dir);
+  const fs::path obj = dir / "tri.obj";
+  {
+    std::ofstream out(obj);
+    out << "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n";
+  }
+  const Scene scene = Scene::load(obj);
+  EXPECT_EQ(scene.object_count(), 1u);
+  EXPECT_EQ(scene.light_count(), 3u);
+  EXPECT_EQ(scene.width(), 800);
+  EXPECT_EQ(scene.height(), 450);
+  // Bounds [0,2]x[0,2]x[0,0]: center (1,1,0), radius sqrt(8)/2; the camera
+  // is 1.15 r / sin(20 deg) away along (0, 0.5, 1) normalized.
+  const auto at = nlohmann::json::parse(scene.get("camera.look_at"));
+  EXPECT_DOUBLE_EQ(at[0].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(at[1].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(at[2].get<double>(), 0.0);
+  const auto eye = nlohmann::json::parse(scene.get("camera.position"));
+  const double d = 1.15 * (std::sqrt(8.0) / 2) / std::sin(20.0 * std::numbers::pi / 180.0);
+  EXPECT_NEAR(eye[1].get<double>() - 1.0, d * 0.5 / std::sqrt(1.25), 1e-12);
+  EXPECT_NEAR(eye[2].get<double>(), d / std::sqrt(1.25), 1e-12);
+  EXPECT_EQ(scene.get("objects[0].file"), "\"tri.obj\"");
+  // Its JSON loads back beside the mesh to the same scene.
+  const Scene back = Scene::from_json(scene.to_json(), dir, "back.json");
+  EXPECT_EQ(glint::api::render(back).image.rgb, glint::api::render(scene).image.rgb);
+  fs::remove_all(dir);
 }

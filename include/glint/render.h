@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "glint/scene.h"
@@ -41,6 +42,13 @@ struct WriteOptions {
 // By the extension: .png .jpg .ppm .pfm .exr .hdr. Atomic: an existing file
 // is replaced only by a complete new one. Throws glint::Error.
 void write_image(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
+// The bytes write_image would write, in memory; the format by its extension
+// ("png", ".png", "pfm", ...). For servers and pipes. With a pass name
+// ("normal", "depth", ...), `image` is that pass and the bytes are those of
+// the file `glint render --passes` writes for it (8-bit normals and depths
+// are remapped as data, docs/cli.md). Throws glint::Error.
+std::vector<unsigned char> encode_image(const Image& image, std::string_view format,
+                                        const WriteOptions& options = {}, std::string_view pass = {});
 // Any of those formats, as linear floats (8-bit ones sRGB-decoded).
 Image read_image(const std::filesystem::path& path);
 
@@ -65,6 +73,13 @@ struct RenderOptions {
   // Only pixels [x0, x1) x [y0, y1) are rendered (the rest stay 0), when
   // x1 > x0 and y1 > y0; the pixels are those of the whole image.
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  // A preview at another size or sample count: when width and height are
+  // > 0 the scene's view is rendered at width x height pixels instead
+  // (the camera's aspect follows the new size); samples_per_pixel > 0
+  // replaces the scene's (adaptive sampling is then off). Either copies the
+  // scene's description for the render; the acceleration structure is kept.
+  int width = 0, height = 0;
+  int samples_per_pixel = 0;
   // Called on the calling thread with the fraction done: once with 0 before
   // any pixel, about ten times a second while rendering, and with 1 at the end
   // (unless cancelled).

@@ -28,7 +28,8 @@ namespace glint::api {
 
 class Scene {
  public:
-  // Any scene file glint reads, chosen by its extension (.json; .nff).
+  // Any scene file glint reads, chosen by its extension (.json; .nff), or a
+  // bare mesh file (.obj .ply .gltf .glb) framed by the rig of docs/cli.md.
   // Relative mesh and texture paths resolve against the file's folder.
   // Throws glint::Error with the file, line and column of the problem.
   static Scene load(const std::filesystem::path& path);

@@ -3,10 +3,12 @@
 #include "glint/render.h"
 
 #include <chrono>
+#include <optional>
 
 #include "glint/accel/accelerator.h"
 #include "glint/api/scene_state.h"
 #include "glint/image/image.h"
+#include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
 #include "glint/render/passes.h"
 #include "glint/render/renderer.h"
@@ -42,6 +44,29 @@ void write_image(const Image& image, const std::filesystem::path& path, const Wr
   o.exposure = options.exposure;
   o.tonemap = static_cast<glint::ToneMap>(options.tonemap);
   glint::write_image(to_internal(image), path, o);
+}
+
+std::vector<unsigned char> encode_image(const Image& image, std::string_view format, const WriteOptions& options,
+                                        std::string_view pass) {
+  std::string name = "x";
+  if (format.empty() || format[0] != '.') name.push_back('.');
+  name.append(format);
+  const auto f = glint::image_format_for_path(name);
+  if (!f) throw Error("unknown image format \"" + std::string(format) + "\"");
+  glint::WriteOptions o;
+  o.exposure = options.exposure;
+  o.tonemap = static_cast<glint::ToneMap>(options.tonemap);
+  glint::Image internal = to_internal(image);
+  if (!pass.empty()) {
+    const auto p = pass_from_name(pass);
+    if (!p) throw Error("unknown pass \"" + std::string(pass) + "\"");
+    if (glint::is_8bit_format(*f)) {
+      // As the CLI writes a pass file (cli/main.cpp): data passes remapped, no curve.
+      o.data = *p == Pass::normal || *p == Pass::depth;
+      internal = pass_image_for_8bit(*p, internal);
+    }
+  }
+  return glint::encode_image(internal, *f, o);
 }
 
 Image read_image(const std::filesystem::path& path) { return to_public(glint::read_image(path)); }
@@ -99,7 +124,25 @@ void Renderer::update(const Scene& scene) {
 const Scene& Renderer::scene() const { return state_->scene; }
 
 RenderResult Renderer::render(const RenderOptions& options) const {
-  const glint::Scene& scene = state_->internal();
+  // A preview size or sample count renders a copy of the description with
+  // those settings over the same accelerator (its geometry is unchanged).
+  std::optional<glint::Scene> preview;
+  const bool resized = options.width > 0 && options.height > 0;
+  if (resized || options.samples_per_pixel > 0) {
+    preview = state_->internal();
+    if (resized) {
+      check_image_size(options.width, options.height, SourceLocation{"render options", 0, 0});
+      preview->render.width = options.width;
+      preview->render.height = options.height;
+    }
+    if (options.samples_per_pixel > 0) {
+      if (options.samples_per_pixel > kMaxSamplesPerPixel)
+        throw Error("samples_per_pixel: at most " + std::to_string(kMaxSamplesPerPixel));
+      preview->render.samples_per_pixel = options.samples_per_pixel;
+      preview->render.adaptive.reset();
+    }
+  }
+  const glint::Scene& scene = preview ? *preview : state_->internal();
   const int w = scene.render.width, h = scene.render.height;
   std::vector<Pass> passes;
   for (const std::string& name : options.passes) {

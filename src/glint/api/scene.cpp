@@ -7,6 +7,7 @@
 #include "glint/api/scene_state.h"
 #include "glint/io/file_io.h"
 #include "glint/io/nff_file.h"
+#include "glint/io/mesh_scene.h"
 #include "glint/io/scene_loader.h"
 
 namespace glint::api {
@@ -145,6 +146,8 @@ glint::Scene check(const Json& document, const Scene::State& from) {
 }  // namespace
 
 Scene Scene::load(const std::filesystem::path& path) {
+  // A bare mesh file: its framing scene is the document (io/mesh_scene.h).
+  if (is_mesh_file(path)) return from_json(mesh_scene_json(path), path.parent_path(), path.string());
   glint::Scene scene = load_scene(path);  // every check, with file:line:col
   if (is_nff_path(path)) {
     // An NFF file's document is the glint JSON its reader makes (docs/nff.md).

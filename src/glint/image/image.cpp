@@ -662,6 +662,24 @@ void write_image(const Image& image, const fs::path& path, const WriteOptions& o
   });
 }
 
+std::vector<unsigned char> encode_image(const Image& image, ImageFormat format, const WriteOptions& options) {
+  if (!valid_size(image.width, image.height) ||
+      image.rgb.size() != 3 * static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
+    throw Error("image: invalid size " + std::to_string(image.width) + "x" + std::to_string(image.height));
+  switch (format) {
+    case ImageFormat::ppm: return encode_ppm(image, options);
+    case ImageFormat::pfm: return encode_pfm(image);
+    case ImageFormat::png: return encode_png(image, options);
+    case ImageFormat::jpg: return encode_jpg(image, options);
+    case ImageFormat::exr: {
+      const MallocBytes exr = encode_exr(image);
+      return {exr.data.get(), exr.data.get() + exr.size};
+    }
+    case ImageFormat::hdr: return encode_hdr(image);
+  }
+  return {};
+}
+
 void write_exr_channels(const std::vector<ExrChannel>& channels, const fs::path& path) {
   return naming_the_file(path, fail_write, [&] {
     if (channels.empty() || !channels[0].image) fail_write(path, "no channels");

@@ -69,6 +69,9 @@ bool is_8bit_format(ImageFormat format);
 // Throws glint::Error("<path>: cannot write: <reason>").
 void write_image(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
 
+// The bytes write_image writes for `format`, in memory (no file involved).
+std::vector<unsigned char> encode_image(const Image& image, ImageFormat format, const WriteOptions& options = {});
+
 // One channel of a multi-channel EXR: component `component` (0..2) of `image`.
 struct ExrChannel {
   std::string name;  // e.g. "R", "diffuse.G", "depth.Z"

@@ -21,6 +21,7 @@
 #include "glint/io/memory_limit.h"
 #include "glint/io/mesh_file.h"
 #include "glint/io/nff_file.h"
+#include "glint/io/mesh_scene.h"
 #include "glint/io/texture_file.h"
 
 namespace glint {
@@ -1244,6 +1245,8 @@ std::vector<Error> validate_scene(const std::filesystem::path& path) {
 
 Scene load_scene(const std::filesystem::path& path) {
   if (is_nff_path(path)) return load_nff_scene(path);
+  // A bare mesh file is framed by a fixed rig (io/mesh_scene.h).
+  if (is_mesh_file(path)) return parse_scene(mesh_scene_json(path), path.string(), path.parent_path());
   const json::Document doc = json::parse_file(path.string());
   try {
     return SceneReader(doc, path.parent_path()).read();

@@ -1,0 +1,365 @@
+// glint serve in a real browser (Debian's chromium through playwright-core):
+// frames equal `glint render`, the ray tree equals `glint explain --json`,
+// the file stays the truth, saves re-render byte for byte, foreign origins
+// are refused, and a soak of edits from two tabs keeps memory flat.
+// Run by tests/browser/run.sh (CTest: Browser.serve). No sleeps: every wait
+// is for a condition, bounded by the test's timeout.
+'use strict';
+const { test, before, after } = require('node:test');
+const assert = require('node:assert/strict');
+const { spawn, execFileSync } = require('node:child_process');
+const fs = require('node:fs');
+const os = require('node:os');
+const path = require('node:path');
+const http = require('node:http');
+const readline = require('node:readline');
+const { chromium } = require('playwright-core');
+
+const GLINT = process.env.GLINT;
+const SOURCE = process.env.GLINT_SOURCE_DIR;
+const work = fs.mkdtempSync(path.join(os.tmpdir(), 'glint-browser-'));
+const scenePath = path.join(work, 'scene.json');
+// The showcase at 480 x 270 (a coarse frame, then the full one), 1 spp.
+const base = JSON.parse(fs.readFileSync(path.join(SOURCE, 'scenes/showcase.json'), 'utf8'));
+base.render.width = 480;
+base.render.height = 270;
+base.render.samples_per_pixel = 1;
+fs.writeFileSync(scenePath, JSON.stringify(base, null, 2));
+
+let server = null, url = null, context = null, page = null, userData = null;
+const serverOutput = [];
+
+function startServer(scene) {
+  return new Promise((resolve, reject) => {
+    const proc = spawn(GLINT, ['serve', scene, '--port', '0', '--threads', '2'], { stdio: ['ignore', 'pipe', 'pipe'] });
+    proc.stderr.on('data', (d) => serverOutput.push(String(d)));
+    proc.on('exit', (code) => reject(new Error(`glint serve exited (${code}): ${serverOutput.join('')}`)));
+    // The printed address is the signal that the port is bound.
+    readline.createInterface({ input: proc.stdout }).on('line', (line) => {
+      const m = /^glint serve: (http:\/\/\S+)\/$/.exec(line);
+      if (m) resolve({ proc, url: m[1] });
+    });
+  });
+}
+
+function stopServer(proc) {
+  if (!proc || proc.exitCode !== null) return Promise.resolve();
+  return new Promise((resolve) => {
+    const timer = setTimeout(() => proc.kill('SIGKILL'), 5000);
+    proc.removeAllListeners('exit');
+    proc.on('exit', () => { clearTimeout(timer); resolve(); });
+    proc.kill('SIGTERM');
+  });
+}
+
+before(async () => {
+  ({ proc: server, url } = await startServer(scenePath));
+  userData = fs.mkdtempSync(path.join(os.tmpdir(), 'glint-chromium-'));
+  context = await chromium.launchPersistentContext(userData, {
+    executablePath: '/usr/bin/chromium',
+    headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
+      '--disable-sync', '--no-first-run', '--force-color-profile=srgb'],
+    viewport: { width: 1280, height: 800 },
+  });
+  page = context.pages()[0] || (await context.newPage());
+  page.on('dialog', (d) => d.accept());
+  await page.goto(url + '/');
+});
+
+after(async () => {
+  // Whatever happened: the browser and the server go, and so do our files.
+  try { if (context) await context.close(); } catch (e) { /* already gone */ }
+  await stopServer(server);
+  fs.rmSync(work, { recursive: true, force: true });
+  if (userData) fs.rmSync(userData, { recursive: true, force: true });
+});
+
+// --- helpers ---------------------------------------------------------------
+
+// Waits until `fn(arg)`, run in the page, is true: checked again at each
+// change the page announces (its "glintpreview" event), never by sleeping.
+// (Not page.waitForFunction: it evaluates strings, which the page's
+// Content-Security-Policy forbids.)
+async function until(p, fn, arg, timeout = 20000) {
+  const deadline = Date.now() + timeout;
+  for (;;) {
+    if (await p.evaluate(fn, arg)) return;
+    if (Date.now() > deadline) throw new Error(`timed out waiting for ${fn} ${JSON.stringify(arg)}`);
+    // The next change, or a second at most (a guard against a missed event).
+    await p.evaluate(() => new Promise((resolve) => {
+      window.addEventListener('glintpreview', resolve, { once: true });
+      setTimeout(resolve, 1000);
+    }));
+  }
+}
+
+// The page is settled: no edit in flight and a full frame of the newest
+// scene and view on screen; `want` maps state paths ("scene.render.background",
+// "view.exposure", "dirty") to the values they must have.
+function settled(p = page, want = {}) {
+  return until(p, (want) => {
+    const g = window.glintPreview, s = g.state, f = g.frame;
+    if (!(s && f && g.editsInFlight === 0 && !f.coarse && s.version >= g.lastEditVersion &&
+      f.scene_version === s.scene_version && f.pass === s.view.pass && f.exposure === s.view.exposure &&
+      f.tonemap === s.view.tonemap && !s.rendering)) return false;
+    for (const [path, value] of Object.entries(want)) {
+      let x = s;
+      for (const key of path.split('.')) x = x === undefined || x === null ? undefined : x[key];
+      if (JSON.stringify(x) !== JSON.stringify(value)) return false;
+    }
+    return true;
+  }, want);
+}
+
+// A range input moved as a user would: its value, then the input event.
+const setRange = (selector, value, p = page) => p.locator(selector).evaluate((el, v) => {
+  el.value = v;
+  el.dispatchEvent(new Event('input', { bubbles: true }));
+}, String(value));
+
+function glintRender(scene, extra = []) {
+  const out = path.join(work, `expected-${Date.now()}-${Math.random().toString(36).slice(2)}.png`);
+  execFileSync(GLINT, ['render', scene, '-o', out, '-q', ...extra]);
+  return out;
+}
+
+function writeScene(doc, name = 'variant.json') {
+  const file = path.join(work, name);
+  fs.writeFileSync(file, JSON.stringify(doc));
+  return file;
+}
+
+// How many bytes of the canvas differ from the PNG file (decoded by the browser).
+async function diffWithPng(pngFile, p = page) {
+  const b64 = fs.readFileSync(pngFile).toString('base64');
+  return p.evaluate(async (data) => {
+    const bytes = Uint8Array.from(atob(data), (c) => c.charCodeAt(0));
+    const bmp = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
+    const off = new OffscreenCanvas(bmp.width, bmp.height);
+    const octx = off.getContext('2d');
+    octx.drawImage(bmp, 0, 0);
+    const want = octx.getImageData(0, 0, bmp.width, bmp.height).data;
+    const canvas = document.getElementById('frame');
+    if (canvas.width !== bmp.width || canvas.height !== bmp.height) return -1;
+    const got = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
+    let diff = 0;
+    for (let i = 0; i < got.length; ++i) if (got[i] !== want[i]) ++diff;
+    return diff;
+  }, b64);
+}
+
+const canvasHash = (p = page) => p.evaluate(() => {
+  const c = document.getElementById('frame');
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  let h = 2166136261;
+  for (let i = 0; i < d.length; ++i) h = Math.imul(h ^ d[i], 16777619);
+  return h >>> 0;
+});
+
+function request(pathname, { method = 'GET', headers = {}, body } = {}) {
+  const u = new URL(url);
+  return new Promise((resolve, reject) => {
+    const req = http.request({ host: u.hostname, port: u.port, path: pathname, method, headers }, (res) => {
+      let text = '';
+      res.on('data', (d) => { text += d; });
+      res.on('end', () => resolve({ status: res.statusCode, text }));
+    });
+    req.on('error', reject);
+    if (body) req.write(body);
+    req.end();
+  });
+}
+
+const rss = () => {
+  const m = /VmRSS:\s+(\d+) kB/.exec(fs.readFileSync(`/proc/${server.pid}/status`, 'utf8'));
+  return Number(m[1]) * 1024;
+};
+
+// --- the tests (in order: each starts from the state the one before left) ---
+
+test('the page shows the scene as glint render draws it', async () => {
+  await settled();
+  assert.equal(await diffWithPng(glintRender(scenePath)), 0);
+  const title = await page.textContent('#file');
+  assert.equal(title, 'scene.json');
+});
+
+test('the file stays the truth: in place, by rename, broken', async () => {
+  const before = await canvasHash();
+  // In place.
+  const a = structuredClone(base);
+  a.render.background = [0.3, 0.1, 0.1];
+  fs.writeFileSync(scenePath, JSON.stringify(a, null, 2));
+  await settled(page, { 'scene.render.background': [0.3, 0.1, 0.1] });
+  assert.notEqual(await canvasHash(), before);
+  assert.equal(await diffWithPng(glintRender(scenePath)), 0);
+  // By rename, as editors save.
+  const b = structuredClone(base);
+  b.materials.red.diffuse = [0.1, 0.8, 0.1];
+  const tmp = path.join(work, '.scene.json.swp');
+  fs.writeFileSync(tmp, JSON.stringify(b, null, 2));
+  fs.renameSync(tmp, scenePath);
+  await settled(page, { 'scene.materials.red.diffuse': [0.1, 0.8, 0.1] });
+  assert.equal(await diffWithPng(glintRender(scenePath)), 0);
+  // Broken: the loader's error, the last good image kept.
+  const good = await canvasHash();
+  fs.writeFileSync(scenePath, '{\n  "render": { "width": 480, "height": -5 }\n}\n');
+  await until(page, () => !document.getElementById('error').hidden);
+  const error = await page.textContent('#error');
+  assert.match(error, /^error: .*scene\.json:2:\d+: /);
+  assert.equal(await canvasHash(), good);
+  // Fixed again.
+  fs.writeFileSync(scenePath, JSON.stringify(base, null, 2));
+  await until(page, () => document.getElementById('error').hidden);
+  await settled(page, { 'scene.materials.red.diffuse': [0.8, 0.15, 0.12] });
+  assert.equal(await diffWithPng(glintRender(scenePath)), 0);
+});
+
+test('a slider changes the frame to glint render of the same parameters', async () => {
+  const before = await canvasHash();
+  // The material panel shows the one chosen in its list.
+  await page.selectOption('#material-select', 'red');
+  await setRange('input[type=range][data-path="materials.red.shininess"]', 7);
+  await settled(page, { 'scene.materials.red.shininess': 7 });
+  assert.notEqual(await canvasHash(), before);
+  const edited = structuredClone(base);
+  edited.materials.red.shininess = 7;
+  assert.equal(await diffWithPng(glintRender(writeScene(edited))), 0);
+  // Exposure and tone map are the view's: as glint render --exposure --tonemap.
+  await setRange('input[type=range][data-path="view.exposure"]', 1.5);
+  await page.selectOption('select[data-path="view.tonemap"]', 'reinhard');
+  await settled(page, { 'view.exposure': 1.5, 'view.tonemap': 'reinhard' });
+  assert.equal(await diffWithPng(glintRender(writeScene(edited), ['--exposure', '1.5', '--tonemap', 'reinhard'])), 0);
+  await setRange('input[type=range][data-path="view.exposure"]', 0);
+  await page.selectOption('select[data-path="view.tonemap"]', 'clamp');
+  // A pass: as glint render --passes writes its file.
+  await page.selectOption('select[data-path="view.pass"]', 'normal');
+  await settled(page, { 'view.pass': 'normal', 'view.exposure': 0, 'view.tonemap': 'clamp' });
+  const withPasses = glintRender(writeScene(edited), ['--passes', 'normal']);
+  assert.equal(await diffWithPng(withPasses.replace(/\.png$/, '.normal.png')), 0);
+  await page.selectOption('select[data-path="view.pass"]', 'image');
+  // A bad value is refused with the loader's message; the scene is unchanged.
+  const r = await page.evaluate(() => fetch('/api/edit', { method: 'POST', headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify({ edits: [{ op: 'set', path: 'materials.red.shininess', value: -3 }] }) })
+    .then(async (x) => ({ status: x.status, body: await x.json() })));
+  assert.equal(r.status, 400);
+  assert.match(r.body.error, /materials\.red\.shininess: must be > 0/);
+  await settled(page, { 'view.exposure': 0, 'view.tonemap': 'clamp', 'scene.materials.red.shininess': 7 });
+});
+
+test('clicking a pixel shows the tree of glint explain --json and selects its material', async () => {
+  const [x, y] = [140, 170];  // on the red ball
+  const box = await page.locator('#frame').boundingBox();
+  await page.mouse.click(box.x + (x + 0.5) * box.width / 480, box.y + (y + 0.5) * box.height / 270);
+  await until(page, () => window.glintPreview.lastExplain !== null);
+  const shown = await page.evaluate(() => window.glintPreview.lastExplain);
+  const edited = structuredClone(base);
+  edited.materials.red.shininess = 7;
+  const expected = JSON.parse(execFileSync(GLINT, ['explain', writeScene(edited), '--pixel', String(x), String(y), '--json']));
+  assert.deepEqual(shown, expected);
+  assert.equal(expected.ray.hit.material, 'red');
+  assert.equal(await page.inputValue('#material-select'), 'red');
+  // The tree on the page shows the numbers: l·n of the point light.
+  const nDotL = expected.ray.hit.lights[1].n_dot_l;
+  const row = await page.textContent('#tree tr[data-light="1"]');
+  assert.ok(row.includes(String(+nDotL.toPrecision(6))), row);
+});
+
+test('save over the file and as a new file: glint render gives the image on screen', async () => {
+  await settled();
+  await page.click('#save');  // the dialog is accepted
+  await until(page, () => !window.glintPreview.state.dirty && /saved scene\.json/.test(window.glintPreview.state.notice));
+  assert.equal(JSON.parse(fs.readFileSync(scenePath, 'utf8')).materials.red.shininess, 7);
+  // (the watcher sees the saved file and renders it again: the same image)
+  await settled(page, { dirty: false });
+  assert.equal(await diffWithPng(glintRender(scenePath)), 0);
+  await page.click('#save-new');
+  await until(page, () => /saved as scene-edited\.json/.test(window.glintPreview.state.notice));
+  await settled();
+  assert.equal(await diffWithPng(glintRender(path.join(work, 'scene-edited.json'))), 0);
+  await settled();
+});
+
+test('unsaved edits and a changed file: the page asks', async () => {
+  await setRange('input[type=range][data-path="materials.red.shininess"]', 20);
+  await settled(page, { dirty: true });
+  const changed = JSON.parse(fs.readFileSync(scenePath, 'utf8'));
+  changed.render.background = [0, 0.3, 0];
+  fs.writeFileSync(scenePath, JSON.stringify(changed));
+  await until(page, () => !document.getElementById('conflict').hidden);
+  await page.click('#take-file');
+  await settled(page, { conflict: false, dirty: false, 'scene.render.background': [0, 0.3, 0] });
+  assert.equal(await diffWithPng(glintRender(scenePath)), 0);
+});
+
+test('requests from elsewhere are refused', async () => {
+  const port = new URL(url).port;
+  const edit = JSON.stringify({ edits: [{ op: 'set', path: 'render.max_depth', value: 1 }] });
+  const json = { 'Content-Type': 'application/json' };
+  // A page on another origin.
+  let r = await request('/api/edit', { method: 'POST', body: edit, headers: { ...json, Origin: 'http://evil.example' } });
+  assert.equal(r.status, 403);
+  r = await request('/api/save', { method: 'POST', body: '{"mode":"overwrite"}', headers: { ...json, Origin: 'null' } });
+  assert.equal(r.status, 403);
+  // DNS rebinding: our address under another name.
+  r = await request('/', { headers: { Host: `evil.example:${port}` } });
+  assert.equal(r.status, 403);
+  // A form post cannot send JSON.
+  r = await request('/api/edit', { method: 'POST', body: edit, headers: { 'Content-Type': 'text/plain' } });
+  assert.equal(r.status, 415);
+  // Only our own files: no path reaches the file system.
+  for (const p of ['/../scene.json', '/scene.json', '/etc/passwd', '/frame/999999.png', '/app.js/../../x']) {
+    r = await request(p);
+    assert.ok(r.status === 404 || r.status === 400, `${p}: ${r.status}`);
+  }
+  // Bodies are capped.
+  // (the server may close the connection before the body is sent: refused too)
+  r = await request('/api/edit', { method: 'POST', body: 'x'.repeat(2 << 20), headers: json })
+    .catch((e) => ({ status: 'closed: ' + e.code }));
+  assert.ok(r.status === 413 || r.status === 400 || /^closed/.test(r.status), String(r.status));
+  // A cross-origin fetch from a page elsewhere fails in the browser too.
+  const other = await context.newPage();
+  await other.goto('about:blank');
+  const outcome = await other.evaluate((u) => fetch(u + '/api/edit', { method: 'POST', headers: { 'Content-Type': 'application/json' },
+    body: '{"edits":[{"op":"set","path":"render.max_depth","value":1}]}' }).then((x) => 'status ' + x.status, (e) => 'failed'), url);
+  assert.notEqual(outcome, 'status 200');
+  await other.close();
+  const state = JSON.parse((await request('/api/state')).text);
+  assert.notEqual(state.scene.render.max_depth, 1);
+});
+
+test('soak: random edits from two tabs keep memory flat and frames correct', async () => {
+  const second = await context.newPage();
+  await second.goto(url + '/');
+  await settled(second);
+  const tabs = [page, second];
+  const edit = (p, i) => p.evaluate((k) => {
+    const paths = ['materials.red.shininess', 'materials.floor.reflectivity', 'lights[1].position', 'camera.fov_y', 'materials.blue.diffuse'];
+    const r = (k * 7919) % 1000 / 1000;
+    const values = [1 + 200 * r, r * 0.5, [-4 + 2 * r, 6, 5], 30 + 20 * r, [r, 0.3, 0.8]];
+    const j = k % paths.length;
+    return fetch('/api/edit', { method: 'POST', headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ edits: [{ op: 'set', path: paths[j], value: values[j] }] }) }).then((x) => x.status);
+  }, i);
+  const round = async (from, to) => {
+    for (let i = from; i < to; i += 2) {
+      const s = await Promise.all([edit(tabs[0], i), edit(tabs[1], i + 1)]);
+      assert.deepEqual(s, [200, 200]);
+    }
+  };
+  await round(0, 100);
+  await settled(page);
+  const start = rss();
+  await round(100, 400);
+  await settled(page);
+  await settled(second);
+  const growth = rss() - start;
+  assert.ok(growth < 16 * 1024 * 1024, `resident memory grew by ${growth} bytes`);
+  // Both tabs show the one scene state, as glint render draws it.
+  const doc = JSON.parse((await request('/api/state')).text).scene;
+  const expected = glintRender(writeScene(doc));
+  assert.equal(await diffWithPng(expected, page), 0);
+  assert.equal(await diffWithPng(expected, second), 0);
+  await second.close();
+});
