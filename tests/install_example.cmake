@@ -15,3 +15,8 @@ run(${WORK_DIR}/build/glint_example ${WORK_DIR}/example.png)
 if(NOT EXISTS ${WORK_DIR}/example.png)
   message(FATAL_ERROR "the example wrote no image")
 endif()
+# The installed files and the example: no RUNPATH entry read against the
+# working directory (see check_runpath.py).
+if(PYTHON)
+  run(${PYTHON} ${CHECK_RUNPATH} ${WORK_DIR}/prefix ${WORK_DIR}/build)
+endif()
