@@ -16,6 +16,7 @@
 
 #include "glint/error.h"
 #include "glint/io/mesh_file.h"
+#include "needs_assimp.h"
 
 namespace glint {
 namespace {
@@ -51,6 +52,7 @@ const Model kGoodModels[] = {
 };
 
 TEST(MeshRealWorld, GoodModelsLoadWithTheirTriangleCounts) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_WITHOUT_TESTMODELS();
   for (const Model& model : kGoodModels) {
     SCOPED_TRACE(model.path);

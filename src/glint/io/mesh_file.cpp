@@ -27,7 +27,9 @@
 
 #include "glint/error.h"
 #include "glint/io/file_io.h"
+#if GLINT_HAVE_ASSIMP
 #include "glint/io/mesh/assimp_import.h"
+#endif
 #include "glint/io/mesh/common.h"
 #include "glint/io/mesh/obj.h"
 
@@ -36,6 +38,18 @@ namespace fs = std::filesystem;
 using mesh_io::fail;
 using mesh_io::format_count;
 using mesh_io::lower;
+
+std::string missing_mesh_support(const fs::path& path) {
+#if GLINT_HAVE_ASSIMP
+  (void)path;
+  return {};
+#else
+  const std::string ext = lower(path.extension().string());
+  if (ext == ".ply" || ext == ".gltf" || ext == ".glb")
+    return "this glint was built without assimp: PLY and glTF meshes are not available";
+  return {};
+#endif
+}
 
 MeshFile load_mesh_file(const fs::path& path, size_t memory_budget, bool vertex_normals) {
   const std::string file = path.string();
@@ -47,6 +61,7 @@ MeshFile load_mesh_file(const fs::path& path, size_t memory_budget, bool vertex_
     const std::string ext = lower(path.extension().string());
     if (ext != ".obj" && ext != ".ply" && ext != ".gltf" && ext != ".glb")
       fail(file, "unsupported mesh format '" + path.extension().string() + "' (supported: .obj, .ply, .gltf, .glb)");
+    if (const std::string missing = missing_mesh_support(path); !missing.empty()) fail(file, missing);
     // Not a device or a pipe: /dev/zero would be read until memory runs out.
     if (!fs::is_regular_file(status)) fail(file, "not a regular file");
     // The readers hold the whole file and more, so a file beyond the budget is refused unread.
@@ -58,8 +73,12 @@ MeshFile load_mesh_file(const fs::path& path, size_t memory_budget, bool vertex_
     std::vector<unsigned char> bytes = read_file(path);
     if (bytes.empty()) fail(file, "empty file");
     if (ext == ".obj") return mesh_io::load_obj(path, file, std::move(bytes), memory_budget, vertex_normals);
+#if GLINT_HAVE_ASSIMP
     if (ext == ".ply") return mesh_io::load_ply(file, std::move(bytes), memory_budget, vertex_normals);
     return mesh_io::load_gltf(path, file, bytes, ext == ".glb", memory_budget, vertex_normals);
+#else
+    fail(file, missing_mesh_support(path));  // not reached: refused above
+#endif
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
