@@ -412,7 +412,7 @@ int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
   }
   if (tiles.done.empty()) {
     image = Image(r.width, r.height);
-    tiles = TileProgress(r.width, r.height, 16);
+    tiles = TileProgress(r.width, r.height, kTileSize);
     passes = PassImages(pass_list, r.width, r.height);
   }
 
@@ -635,7 +635,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
     const Scene& frame_scene = scene->animation.frames > 0 ? (moved = scene_at_frame(*scene, frame)) : *scene;
     const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
     mpi::DistributedStats stats;
-    const Image image = mpi::render_image(frame_scene, *accel, threads, 16, &stats, rank_timeout);
+    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout);
     if (session.rank != 0) continue;
     write_image(image, output, light_options(args));
     if (args.quiet) continue;

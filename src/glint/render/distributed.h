@@ -13,6 +13,7 @@
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
 #include "glint/render/integrator.h"
+#include "glint/render/tile_size.h"
 #include "glint/scene/scene.h"
 
 namespace glint::mpi {
@@ -63,7 +64,7 @@ struct DistributedStats {
 // A rank that holds tiles and sends nothing for `rank_timeout` seconds (a
 // stopped or hung process, a lost node) ends the job: rank 0 prints
 // `error: rank R: no answer for N s (holding tiles ...)` and aborts.
-Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size = 16,
+Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size = kTileSize,
                    DistributedStats* stats = nullptr, double rank_timeout = kDefaultRankTimeout);
 
 // Collective. Hands out items 0..count-1 on demand, one at a time per rank;

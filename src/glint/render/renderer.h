@@ -13,12 +13,13 @@
 #include "glint/image/image.h"
 #include "glint/render/integrator.h"
 #include "glint/render/passes.h"
+#include "glint/render/tile_size.h"
 
 namespace glint {
 
 struct RenderOptions {
   int threads = 0;      // 0: all cores
-  int tile_size = 16;
+  int tile_size = kTileSize;
   // Called on the calling thread about ten times a second with the fraction done.
   std::function<void(double fraction)> progress;
   // When set and true, workers stop taking tiles and abandon the ones they are
@@ -30,7 +31,7 @@ struct RenderOptions {
 // With adaptive sampling a tile is finished in two stages: the first pass,
 // then the refinement of its chosen pixels.
 struct TileProgress {
-  int tile_size = 16;
+  int tile_size = kTileSize;
   int tiles_x = 0, tiles_y = 0;
   std::vector<uint8_t> done;  // tiles_x * tiles_y flags, row-major: the stages finished (0, 1, 2)
   uint8_t stages = 1;         // 2 with adaptive sampling (render_tiles sets it)
@@ -92,9 +93,6 @@ class TileRenderer {
   const Accelerator& accel_;
   std::unique_ptr<Context> context_;
 };
-
-// Color of one pixel (all its samples averaged): what render_image stores.
-Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int y, TraceContext& ctx);
 
 int resolve_thread_count(int requested);
 
