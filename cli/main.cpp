@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -503,10 +504,29 @@ int run_render_local(const RenderArgs& args);
 int run_render_mpi(const RenderArgs& args);
 #endif
 
+#ifdef GLINT_HAVE_MPI
+// Whether mpirun, mpiexec or srun started this process.
+bool mpi_launched() {
+  for (const char* name : glint::mpi::kLauncherVariables)
+    if (std::getenv(name)) return true;
+  return false;
+}
+
+// Test-only fault injection (tests/mpi/mpi_tests.sh): GLINT_TEST_DIE_RANK=R
+// makes rank R kill itself, GLINT_TEST_HANG_RANK=R stop, after its first tile
+// or frame. Not for users: it exists to check how a job fails.
+glint::mpi::FaultInjection test_faults_from_environment() {
+  glint::mpi::FaultInjection faults;
+  if (const char* die = std::getenv("GLINT_TEST_DIE_RANK")) faults.die_rank = std::atoi(die);
+  if (const char* hang = std::getenv("GLINT_TEST_HANG_RANK")) faults.hang_rank = std::atoi(hang);
+  return faults;
+}
+#endif
+
 int run_render(const RenderArgs& args) {
   using namespace glint;
 #ifdef GLINT_HAVE_MPI
-  if (glint::mpi::launched()) return run_render_mpi(args);
+  if (mpi_launched()) return run_render_mpi(args);
 #endif
   return run_render_local(args);
 }
@@ -613,7 +633,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
             throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
           }
         },
-        rank_timeout, [&](int item) { return std::to_string(plan[todo[item]].first); });
+        rank_timeout, [&](int item) { return std::to_string(plan[todo[item]].first); }, test_faults_from_environment());
     return 0;
   }
   if (args.passes || args.passes_layered || scene->render.adaptive) {
@@ -635,7 +655,8 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
     const Scene& frame_scene = scene->animation.frames > 0 ? (moved = scene_at_frame(*scene, frame)) : *scene;
     const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
     mpi::DistributedStats stats;
-    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout);
+    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout,
+                                          test_faults_from_environment());
     if (session.rank != 0) continue;
     write_image(image, output, light_options(args));
     if (args.quiet) continue;
