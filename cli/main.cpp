@@ -504,29 +504,10 @@ int run_render_local(const RenderArgs& args);
 int run_render_mpi(const RenderArgs& args);
 #endif
 
-#ifdef GLINT_HAVE_MPI
-// Whether mpirun, mpiexec or srun started this process.
-bool mpi_launched() {
-  for (const char* name : glint::mpi::kLauncherVariables)
-    if (std::getenv(name)) return true;
-  return false;
-}
-
-// Test-only fault injection (tests/mpi/mpi_tests.sh): GLINT_TEST_DIE_RANK=R
-// makes rank R kill itself, GLINT_TEST_HANG_RANK=R stop, after its first tile
-// or frame. Not for users: it exists to check how a job fails.
-glint::mpi::FaultInjection test_faults_from_environment() {
-  glint::mpi::FaultInjection faults;
-  if (const char* die = std::getenv("GLINT_TEST_DIE_RANK")) faults.die_rank = std::atoi(die);
-  if (const char* hang = std::getenv("GLINT_TEST_HANG_RANK")) faults.hang_rank = std::atoi(hang);
-  return faults;
-}
-#endif
-
 int run_render(const RenderArgs& args) {
   using namespace glint;
 #ifdef GLINT_HAVE_MPI
-  if (mpi_launched()) return run_render_mpi(args);
+  if (glint::mpi::launched([](const char* name) { return std::getenv(name); })) return run_render_mpi(args);
 #endif
   return run_render_local(args);
 }
@@ -597,6 +578,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
     error = e.what();
   }
   const double rank_timeout = args.rank_timeout.value_or(mpi::kDefaultRankTimeout);
+  const auto faults = mpi::test_faults([](const char* name) { return std::getenv(name); });  // tests/mpi only
   const std::vector<int> failed = mpi::failed_ranks(error.empty());
   if (!failed.empty()) {
     // Rank 0 speaks for all when it failed too (the same file, the same error).
@@ -633,7 +615,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
             throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
           }
         },
-        rank_timeout, [&](int item) { return std::to_string(plan[todo[item]].first); }, test_faults_from_environment());
+        rank_timeout, [&](int item) { return std::to_string(plan[todo[item]].first); }, faults);
     return 0;
   }
   if (args.passes || args.passes_layered || scene->render.adaptive) {
@@ -655,8 +637,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
     const Scene& frame_scene = scene->animation.frames > 0 ? (moved = scene_at_frame(*scene, frame)) : *scene;
     const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
     mpi::DistributedStats stats;
-    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout,
-                                          test_faults_from_environment());
+    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout, faults);
     if (session.rank != 0) continue;
     write_image(image, output, light_options(args));
     if (args.quiet) continue;

@@ -18,10 +18,10 @@
 
 namespace glint::mpi {
 
-// The environment variables an MPI launcher (mpirun, mpiexec, srun) sets in
-// the processes it starts: the program checks them (the library reads no
-// environment) to tell whether to start a Session.
-inline constexpr const char* kLauncherVariables[] = {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"};
+// Whether an MPI launcher (mpirun, mpiexec, srun) started this process, from
+// the environment as the program passes it (std::getenv: the library itself
+// reads no environment variable).
+bool launched(const std::function<const char*(const char* name)>& environment);
 
 // MPI_Init_thread (funneled) on construction, MPI_Finalize on destruction.
 // Errors on MPI_COMM_WORLD return codes (MPI_ERRORS_RETURN); glint turns a
@@ -57,6 +57,10 @@ struct FaultInjection {
   int die_rank = -1;
   int hang_rank = -1;
 };
+// The faults the test-only variables GLINT_TEST_DIE_RANK=R and
+// GLINT_TEST_HANG_RANK=R ask for (tests/mpi/mpi_tests.sh), in the
+// environment as the program passes it; none when they are unset.
+FaultInjection test_faults(const std::function<const char*(const char* name)>& environment);
 
 struct DistributedStats {
   RayStats rays;            // summed over ranks (rank 0)
