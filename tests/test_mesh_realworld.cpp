@@ -80,6 +80,7 @@ const BrokenModel kBrokenModels[] = {
 };
 
 TEST(MeshRealWorld, BrokenGltfModelsGiveOneClearErrorNamingTheFile) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_WITHOUT_TESTMODELS();
   for (const BrokenModel& model : kBrokenModels) {
     SCOPED_TRACE(model.path);
@@ -106,6 +107,7 @@ int run(const std::string& command, std::string& out) {
 }
 
 TEST(MeshRealWorld, CliRefusesScenesWithBrokenModelsWithOneErrorLine) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_WITHOUT_TESTMODELS();
   const fs::path dir = fs::temp_directory_path() / ("glint-realworld-" + std::to_string(::getpid()));
   fs::create_directories(dir);
