@@ -674,6 +674,9 @@ class SceneReader {
       fail(v, path, "mesh file " + quote_text(file.string()) + " is a directory");
     if (!std::filesystem::is_regular_file(file, ec))
       fail(v, path, "mesh file " + quote_text(file.string()) + " is not a regular file (a device or a pipe)");
+    // A format this build leaves out (GLINT_ASSIMP=OFF) is refused at the key that names it.
+    if (const std::string missing = missing_mesh_support(file); !missing.empty())
+      fail(v, path, quote_text(file.string()) + ": " + missing);
     MeshFile loaded = load_mesh_file(file, memory_budget_, smooth_mesh_files_.count(cache_key) > 0);
     for (std::string& w : loaded.warnings) scene_.warnings.push_back(std::move(w));
     // The file's textures join the scene's; one that cannot be read is a
