@@ -399,7 +399,9 @@ TEST(ShadowCache, SameAnswersAsOccludedWhateverIsCached) {
     for (uint32_t c : {kNoShadowBlocker, 0u, 1u, 2u, 3u}) {
       uint32_t cache = c;
       EXPECT_EQ(accel->occluded_cached(r, cache), want) << "ray " << i << " cache " << c;
-      if (want && c == kNoShadowBlocker) EXPECT_EQ(cache, *accel->first_blocker(r));
+      if (want && c == kNoShadowBlocker) {
+        EXPECT_EQ(cache, *accel->first_blocker(r));
+      }
     }
   }
   EXPECT_GT(blocked, 200);  // both answers are exercised
