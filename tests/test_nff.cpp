@@ -195,6 +195,45 @@ TEST_F(NffEveryEntity, JsonTextIsTheDocumentOnePartPerLine) {
   EXPECT_EQ(objects, 6u);
 }
 
+// Two documents hold the same values, keys and order.
+void expect_same_value(const json::Value& a, const json::Value& b, const std::string& path) {
+  ASSERT_EQ(a.kind(), b.kind()) << path;
+  switch (a.kind()) {
+    case json::Kind::number: EXPECT_EQ(a.as_number(), b.as_number()) << path; break;
+    case json::Kind::string: EXPECT_EQ(a.as_string(), b.as_string()) << path; break;
+    case json::Kind::boolean: EXPECT_EQ(a.as_bool(), b.as_bool()) << path; break;
+    case json::Kind::array:
+      ASSERT_EQ(a.size(), b.size()) << path;
+      for (size_t i = 0; i < a.size(); ++i) expect_same_value(a[i], b[i], path + "[" + std::to_string(i) + "]");
+      break;
+    case json::Kind::object:
+      ASSERT_EQ(a.size(), b.size()) << path;
+      for (size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a.key(i), b.key(i)) << path;
+        expect_same_value(a.member(i), b.member(i), path + "." + std::string(a.key(i)));
+      }
+      break;
+    case json::Kind::null: break;
+  }
+}
+
+TEST(Nff, LoaderDocumentIsTheJsonTextsDocument) {
+  // The document load_scene builds in memory holds what the JSON text of
+  // `glint convert` holds, and each part of it is on a line of its own.
+  for (const fs::path& file : {kNffDir / "every-entity.nff", kNffDir / "spheres.nff", kNffDir / "glass-sphere.nff",
+                               kSpdDir / "balls.nff", kSpdDir / "tetra.nff"}) {
+    SCOPED_TRACE(file.string());
+    const std::string text = read_text(file);
+    const json::Document built = nff_loader_document(text, "x.nff");
+    const json::Document parsed = json::parse(nff_json_text(read_nff(text, "x.nff")).text, "x.nff");
+    expect_same_value(built.root(), parsed.root(), "");
+    const json::Value objects = *built.root().find("objects");
+    ASSERT_GE(objects.size(), 1u);
+    for (size_t i = 1; i < objects.size(); ++i)
+      EXPECT_EQ(objects[i].location().line, objects[i - 1].location().line + 1);
+  }
+}
+
 TEST(Nff, ReadsExponentsSignsAndLayouts) {
   // Numbers with exponents, a leading '+', CRLF line ends, tabs, a comment
   // at the end of a line, and a view written on one line.

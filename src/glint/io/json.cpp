@@ -540,6 +540,91 @@ const std::string& Document::filename() const { return data_->filename; }
 SourceLocation Document::location_at(size_t offset) const { return data_->location(offset); }
 size_t Document::node_count() const { return data_->nodes.size(); }
 
+// --- building in memory -------------------------------------------------------
+// A node's offset is its line's index, and line i starts at offset i - 1:
+// every location is (line, 1).
+
+DocumentBuilder::DocumentBuilder(std::string filename) : data_(std::make_unique<DocumentData>()) {
+  data_->filename = std::move(filename);
+  data_->line_starts.push_back(0);
+}
+
+DocumentBuilder::~DocumentBuilder() = default;
+
+void DocumentBuilder::reserve(size_t nodes, size_t string_bytes) {
+  data_->nodes.reserve(nodes);
+  data_->children.reserve(nodes);
+  data_->pool.reserve(string_bytes);
+}
+
+void DocumentBuilder::next_line() {
+  data_->line_starts.push_back(static_cast<uint32_t>(data_->line_starts.size()));
+  data_->size = data_->line_starts.size() - 1;
+}
+
+int DocumentBuilder::line() const { return static_cast<int>(data_->line_starts.size()); }
+
+uint32_t DocumentBuilder::add(Kind kind) {
+  Node node;
+  node.span[0] = node.span[1] = 0;
+  node.offset = data_->line_starts.back();
+  node.kind = kind;
+  data_->nodes.push_back(node);
+  const auto n = static_cast<uint32_t>(data_->nodes.size() - 1);
+  if (!open_.empty()) pending_.push_back(n);  // the root is nodes[0] and nobody's child
+  return n;
+}
+
+void DocumentBuilder::begin_object() { open_.push_back(Open{add(Kind::object), pending_.size()}); }
+void DocumentBuilder::begin_array() { open_.push_back(Open{add(Kind::array), pending_.size()}); }
+
+void DocumentBuilder::end() {
+  assert(!open_.empty());
+  const Open o = open_.back();
+  open_.pop_back();
+  Node& node = data_->nodes[o.node];
+  const size_t count = pending_.size() - o.base;
+  assert(node.kind == Kind::array || count % 2 == 0);
+  node.span[0] = static_cast<uint32_t>(data_->children.size());
+  node.span[1] = static_cast<uint32_t>(node.kind == Kind::object ? count / 2 : count);
+  data_->children.insert(data_->children.end(), pending_.begin() + static_cast<std::ptrdiff_t>(o.base),
+                         pending_.end());
+  pending_.resize(o.base);
+}
+
+void DocumentBuilder::key(std::string_view key) {
+  assert(!open_.empty() && data_->nodes[open_.back().node].kind == Kind::object &&
+         (pending_.size() - open_.back().base) % 2 == 0);
+  string(key);
+}
+
+void DocumentBuilder::number(double value) { data_->nodes[add(Kind::number)].number = value; }
+
+void DocumentBuilder::string(std::string_view value) {
+  const uint32_t n = add(Kind::string);
+  data_->nodes[n].span[0] = static_cast<uint32_t>(data_->pool.size());
+  data_->nodes[n].span[1] = static_cast<uint32_t>(value.size());
+  data_->pool += value;
+}
+
+void DocumentBuilder::boolean(bool value) { data_->nodes[add(Kind::boolean)].boolean = value; }
+
+void DocumentBuilder::triple(double x, double y, double z) {
+  begin_array();
+  number(x);
+  number(y);
+  number(z);
+  end();
+}
+
+Document DocumentBuilder::document() {
+  assert(open_.empty() && !data_->nodes.empty());
+  Document doc(std::move(data_));
+  data_ = std::make_unique<DocumentData>();
+  data_->line_starts.push_back(0);
+  return doc;
+}
+
 // --- parsing -------------------------------------------------------------------
 
 Document parse(std::string text, std::string filename) {

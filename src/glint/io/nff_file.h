@@ -13,8 +13,13 @@
 #include <vector>
 
 #include "glint/error.h"
+#include "glint/scene/scene.h"
 
 namespace glint {
+
+namespace json {
+class Document;
+}
 
 // Where one part of the generated document came from.
 struct NffOrigin {
@@ -34,6 +39,19 @@ struct NffScene {
 
 // True for a path whose extension is .nff, in any case.
 bool is_nff_path(const std::filesystem::path& path);
+
+// The scene of an NFF file, through the JSON loader's checks (load_scene
+// and validate_scene call these for .nff files). The loader's document is
+// built in memory (json::DocumentBuilder), not written out as JSON text and
+// parsed again; whatever the loader finds in it is reported at the NFF
+// entity behind it, as nff_error() words it.
+Scene load_nff_scene(const std::filesystem::path& path);
+std::vector<Error> validate_nff_scene(const std::filesystem::path& path);
+
+// The document load_nff_scene hands the loader, alone: the same values, keys
+// and order as json::parse(nff_json_text(read_nff(text, filename)).text),
+// with every value at the line of its part (tests compare the two).
+json::Document nff_loader_document(std::string_view text, const std::string& filename);
 
 // Throws glint::Error("FILE:line:col: what") for every malformed input.
 NffScene read_nff(std::string_view text, const std::string& filename);

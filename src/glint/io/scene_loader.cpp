@@ -1190,47 +1190,25 @@ Scene parse_scene(std::string text, const std::string& filename, const std::file
   }
 }
 
-namespace {
-
-// An NFF file (docs/scene-format.md, "NFF scenes") goes through the JSON
-// loader as the document nff_file.h makes of it, so both formats get the same
-// checks; whatever the loader finds is reported at the NFF entity behind it.
-Scene load_nff_scene(const std::filesystem::path& path) {
-  const NffScene nff = read_nff_file(path);
-  NffJsonText json = nff_json_text(nff);
-  Scene scene;
+Scene read_scene_document(const json::Document& doc, const std::filesystem::path& base_dir, size_t memory_budget) {
   try {
-    scene = parse_scene(std::move(json.text), path.string(), path.parent_path());
-  } catch (const Error& e) {
-    throw nff_error(nff, json, e);
+    return SceneReader(doc, base_dir, memory_budget).read();
+  } catch (const std::bad_alloc&) {
+    throw Error(SourceLocation{doc.filename(), 0, 0}, "out of memory while loading the scene");
   }
-  // The view's angle spans the rows' centers: fov_y follows the rendered height.
-  scene.camera.row_center_angle = nff.angle;
-  return scene;
 }
 
-std::vector<Error> validate_nff_scene(const std::filesystem::path& path) {
+std::vector<Error> validate_scene_document(const json::Document& doc, const std::filesystem::path& base_dir) {
   std::vector<Error> errors;
   try {
-    const NffScene nff = read_nff_file(path);
-    const NffJsonText json = nff_json_text(nff);
-    std::vector<Error> found;
-    try {
-      const json::Document doc = json::parse(json.text, path.string());
-      SceneReader(doc, path.parent_path()).read(&found);
-    } catch (const Error& e) {
-      found.push_back(e);
-    }
-    for (const Error& e : found) errors.push_back(nff_error(nff, json, e));
+    SceneReader(doc, base_dir).read(&errors);
   } catch (const Error& e) {
-    errors.push_back(e);  // the NFF itself is malformed: nothing more can be checked
+    errors.push_back(e);
   } catch (const std::bad_alloc&) {
-    errors.push_back(Error(SourceLocation{path.string(), 0, 0}, "out of memory while loading the scene"));
+    errors.push_back(Error(SourceLocation{doc.filename(), 0, 0}, "out of memory while loading the scene"));
   }
   return errors;
 }
-
-}  // namespace
 
 std::vector<Error> validate_scene(const std::filesystem::path& path) {
   if (is_nff_path(path)) return validate_nff_scene(path);

@@ -16,6 +16,10 @@
 
 namespace glint {
 
+namespace json {
+class Document;
+}
+
 // A path ending in .nff (any case) is read as an NFF file (docs/nff.md).
 Scene load_scene(const std::filesystem::path& path);
 
@@ -27,6 +31,13 @@ std::vector<Error> validate_scene(const std::filesystem::path& path);
 // base_dir. Mesh files, each alone and all together, must fit memory_budget.
 Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir = {},
                   size_t memory_budget = default_memory_budget());
+
+// A document built in memory (json::DocumentBuilder; the NFF reader's), through
+// the same checks as a file's; read_scene_document throws the first problem,
+// validate_scene_document lists them all as validate_scene does.
+Scene read_scene_document(const json::Document& doc, const std::filesystem::path& base_dir,
+                          size_t memory_budget = default_memory_budget());
+std::vector<Error> validate_scene_document(const json::Document& doc, const std::filesystem::path& base_dir);
 
 // Limits the loader enforces beyond the contract, so no input can exhaust
 // memory or the stack; documented in docs/scene-format.md.
