@@ -15,6 +15,7 @@
 #include "glint/accel/accelerator.h"
 #include "glint/error.h"
 #include "glint/geometry/polygon.h"
+#include "glint/geometry/shapes.h"
 #include "glint/io/scene_loader.h"
 #include "glint/math/rng.h"
 #include "glint/render/integrator.h"
@@ -199,6 +200,61 @@ TEST(Polygon, GearOf144VerticesAtSixDigitsIsAccepted) {
   const Scene scene = parse_scene(text, "gear.json");
   ASSERT_EQ(scene.polygons.size(), 1u);
   EXPECT_EQ(scene.polygons[0].triangles.size(), 142u);
+}
+
+// The grid (PolygonGrid) only narrows which triangles are tested: every ray
+// finds the hit, triangle and barycentrics that testing all of them in order
+// finds -- rays from all directions, grazing ones, rays through vertices and
+// along the triangulation's edges, and vertices up to 1e-5 of the diagonal
+// off the plane (the planarity tolerance).
+TEST(Polygon, GridFindsWhatEveryTriangleFinds) {
+  Rng rng(29);
+  int hits = 0, rays = 0;
+  for (int shape = 0; shape < 6; ++shape) {
+    std::vector<Vec3> v = gear(36, 1.5 * shape, -0.5, 0.25 * shape, 0.8, 1.0);
+    // Tilted about x and y, and (for some) every vertex nudged off the plane.
+    const Transform tilt = compose(Transform::rotate({1, 0, 0}, 17.0 * shape), Transform::rotate({0, 1, 0}, 29.0 * shape));
+    for (size_t i = 0; i < v.size(); ++i) {
+      v[i] = tilt.point(v[i]);
+      if (shape % 2 && i > 2) v[i] += (0.9e-5 * 2.0 * (rng.next_double() - 0.5)) * Vec3(0.3, -0.4, 0.85);
+    }
+    const Polygon with = build(v);
+    ASSERT_TRUE(with.grid);
+    Polygon without = with;
+    without.grid.reset();
+    const Vec3 n = with.normal;
+    const Bounds3 box = [&] {
+      Bounds3 b;
+      for (const Vec3& p : v) b.extend(p);
+      return b;
+    }();
+    for (int i = 0; i < 4000; ++i) {
+      // A target on the polygon's plane: inside its box, at a vertex, or on an edge of a triangle.
+      Vec3 target;
+      const int kind = i % 4;
+      if (kind == 0) {
+        target = box.lo + Vec3(rng.next_double(), rng.next_double(), rng.next_double()) * (box.hi - box.lo);
+      } else {
+        const auto& tri = with.triangles[static_cast<size_t>(rng.next_double() * with.triangles.size())];
+        const Vec3 a = v[tri[0]], b = v[tri[1]];
+        target = kind == 1 ? a : a + rng.next_double() * (b - a);
+      }
+      Vec3 d{rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5};
+      if (i % 8 == 7) d = d - (dot(d, n) - 1e-3 * (rng.next_double() - 0.5)) * n;  // grazing
+      const double back = 0.5 + 5 * rng.next_double();
+      const Ray ray{target - back * d, d};
+      ++rays;
+      const auto a = intersect_polygon(with, ray), b = intersect_polygon(without, ray);
+      ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << i << " of shape " << shape;
+      if (!a) continue;
+      ++hits;
+      EXPECT_EQ(a->t, b->t);
+      EXPECT_EQ(a->b1, b->b1);
+      EXPECT_EQ(a->b2, b->b2);
+      EXPECT_EQ(a->triangle, b->triangle);
+    }
+  }
+  EXPECT_GT(hits, rays / 3);
 }
 
 TEST(Polygon, SmoothNormalsAreInterpolatedOnTheFan) {

@@ -123,6 +123,64 @@ std::vector<std::array<uint32_t, 3>> ear_clip(const std::vector<P2>& p, std::vec
   return out;
 }
 
+// The grid of a polygon whose triangles are final (see PolygonGrid).
+std::shared_ptr<const PolygonGrid> make_grid(const Polygon& polygon) {
+  auto g = std::make_shared<PolygonGrid>();
+  const Vec3& n = polygon.normal;
+  const Vec3 a(std::abs(n.x), std::abs(n.y), std::abs(n.z));
+  const int drop = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+  g->u = drop == 0 ? 1 : 0;
+  g->v = drop == 2 ? 1 : 2;
+  Bounds3 box;
+  for (const Vec3& v : polygon.vertices) {
+    box.extend(v);
+    g->deviation = std::max(g->deviation, std::abs(dot(v - polygon.vertices[0], n)));
+  }
+  g->diagonal = length(box.diagonal());
+  const size_t count = polygon.triangles.size();
+  g->boxes.reserve(count);
+  for (const auto& t : polygon.triangles) {
+    const Vec3 &p0 = polygon.vertices[t[0]], &p1 = polygon.vertices[t[1]], &p2 = polygon.vertices[t[2]];
+    g->boxes.push_back({std::min({p0[g->u], p1[g->u], p2[g->u]}), std::min({p0[g->v], p1[g->v], p2[g->v]}),
+                        std::max({p0[g->u], p1[g->u], p2[g->u]}), std::max({p0[g->v], p1[g->v], p2[g->v]})});
+  }
+  // About one cell per triangle, square-ish.
+  const double extent[2] = {box.hi[g->u] - box.lo[g->u], box.hi[g->v] - box.lo[g->v]};
+  const double cells = static_cast<double>(count);
+  const double ratio = extent[1] > 0 ? extent[0] / extent[1] : 1.0;
+  g->cells[0] = static_cast<int>(std::clamp(std::round(std::sqrt(cells * ratio)), 1.0, 64.0));
+  g->cells[1] = static_cast<int>(std::clamp(std::round(cells / g->cells[0]), 1.0, 64.0));
+  for (int k = 0; k < 2; ++k) {
+    g->lo[k] = k == 0 ? box.lo[g->u] : box.lo[g->v];
+    g->cell[k] = extent[k] > 0 ? extent[k] / g->cells[k] : 1.0;
+  }
+  // Cells overlapped by each box, counted, then filled in triangle order.
+  const auto range = [&](const std::array<double, 4>& b, int k) {
+    const auto cell = [&](double x) {
+      return std::clamp(static_cast<int>(std::floor((x - g->lo[k]) / g->cell[k])), 0, g->cells[k] - 1);
+    };
+    return std::pair<int, int>(cell(b[k]), cell(b[k + 2]));
+  };
+  const size_t total = static_cast<size_t>(g->cells[0]) * static_cast<size_t>(g->cells[1]);
+  std::vector<uint32_t> count_in(total + 1, 0);
+  for (const auto& b : g->boxes) {
+    const auto [u0, u1] = range(b, 0);
+    const auto [v0, v1] = range(b, 1);
+    for (int cv = v0; cv <= v1; ++cv)
+      for (int cu = u0; cu <= u1; ++cu) ++count_in[static_cast<size_t>(cu + g->cells[0] * cv) + 1];
+  }
+  for (size_t c = 0; c < total; ++c) count_in[c + 1] += count_in[c];
+  g->first = count_in;
+  g->items.resize(count_in[total]);
+  for (uint32_t i = 0; i < count; ++i) {
+    const auto [u0, u1] = range(g->boxes[i], 0);
+    const auto [v0, v1] = range(g->boxes[i], 1);
+    for (int cv = v0; cv <= v1; ++cv)
+      for (int cu = u0; cu <= u1; ++cu) g->items[count_in[static_cast<size_t>(cu + g->cells[0] * cv)]++] = i;
+  }
+  return g;
+}
+
 }  // namespace
 
 bool polygon_is_convex(const std::vector<Vec3>& vertices, const Vec3& normal) {
@@ -210,6 +268,7 @@ PolygonBuild make_polygon(std::vector<Vec3> vertices, std::vector<Vec3> normals)
   polygon.vertices = std::move(vertices);
   polygon.normals = std::move(normals);
   polygon.normal = normal;
+  if (polygon.triangles.size() >= kPolygonGridMinTriangles) polygon.grid = make_grid(polygon);
   return out;
 }
 

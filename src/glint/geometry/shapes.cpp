@@ -205,11 +205,54 @@ std::optional<PolygonHit> intersect_polygon(const Polygon& polygon, const Ray& r
   }
   // The triangles of a simple planar polygon do not overlap: the first hit
   // is the hit (a ray through a shared edge may find either neighbour).
-  for (uint32_t i = 0; i < polygon.triangles.size(); ++i) {
+  const auto test = [&](uint32_t i) -> std::optional<PolygonHit> {
     const auto& tri = polygon.triangles[i];
     if (auto h = intersect_triangle(Triangle{v[tri[0]], v[tri[1]], v[tri[2]]}, ray))
       return PolygonHit{h->t, h->b1, h->b2, i};
+    return std::nullopt;
+  };
+  if (polygon.grid && std::isfinite(t_plane)) {
+    // Only the triangles near the point p where the ray meets the plane, in
+    // the same order: the first hit is the same. A triangle the ray meets is
+    // within `margin` of p across the plane: its vertices lie within
+    // `deviation` of the plane, which the ray crosses at an angle whose
+    // cosine is `cos`; and p and the triangle test round, by far less than
+    // 1e-12 of the distances involved.
+    const PolygonGrid& g = *polygon.grid;
+    const double cos = std::abs(denom) / length(ray.direction);
+    const Vec3 p = ray.origin + t_plane * ray.direction;
+    const double scale = g.diagonal + length(v[0] - ray.origin) + length(p - ray.origin) +
+                         max_abs_component(ray.origin) + max_abs_component(p);
+    const double margin = (1.01 * g.deviation + 1e-12 * scale) / cos;
+    const double pu = p[g.u], pv = p[g.v];
+    if (std::isfinite(margin) && std::isfinite(pu) && std::isfinite(pv)) {
+      const auto near = [&](uint32_t i) {
+        const std::array<double, 4>& b = g.boxes[i];
+        return pu >= b[0] - margin && pv >= b[1] - margin && pu <= b[2] + margin && pv <= b[3] + margin;
+      };
+      const double u0 = std::floor((pu - margin - g.lo[0]) / g.cell[0]), u1 = std::floor((pu + margin - g.lo[0]) / g.cell[0]);
+      const double v0 = std::floor((pv - margin - g.lo[1]) / g.cell[1]), v1 = std::floor((pv + margin - g.lo[1]) / g.cell[1]);
+      // Past the grid (which bounds every triangle's box): nothing to hit.
+      if (u1 < 0 || v1 < 0 || u0 >= g.cells[0] || v0 >= g.cells[1]) return std::nullopt;
+      if (u0 == u1 && v0 == v1) {
+        const size_t c = static_cast<size_t>(u0) + static_cast<size_t>(g.cells[0]) * static_cast<size_t>(v0);
+        for (uint32_t k = g.first[c]; k < g.first[c + 1]; ++k) {
+          const uint32_t i = g.items[k];
+          if (!near(i)) continue;
+          if (auto h = test(i)) return h;
+        }
+        return std::nullopt;
+      }
+      // Near a cell's border: every triangle, boxes first.
+      for (uint32_t i = 0; i < polygon.triangles.size(); ++i) {
+        if (!near(i)) continue;
+        if (auto h = test(i)) return h;
+      }
+      return std::nullopt;
+    }
   }
+  for (uint32_t i = 0; i < polygon.triangles.size(); ++i)
+    if (auto h = test(i)) return h;
   return std::nullopt;
 }
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -182,12 +183,31 @@ struct Disk {
 // triangle test. `normal` is the right-hand-rule normal of the first three
 // vertices (unit); `normals`, when given, are unit vertex normals for smooth
 // shading (the polygon is then convex and `triangles` is the fan (0, i, i+1)).
+struct PolygonGrid;
 struct Polygon {
   std::vector<Vec3> vertices;
   std::vector<Vec3> normals;
   std::vector<std::array<uint32_t, 3>> triangles;
   Vec3 normal{0, 0, 1};
   Bounds3 bounds;
+  // For polygons of many triangles (make_polygon builds it): which triangles
+  // lie near a point of the plane, so a ray tests a few, not all of them.
+  std::shared_ptr<const PolygonGrid> grid;
+};
+
+// A uniform grid over a polygon's bounding box in the two coordinates other
+// than its normal's largest one; each cell lists, in ascending order, the
+// triangles whose (projected) boxes overlap it.
+struct PolygonGrid {
+  int u = 0, v = 1;              // the coordinates (0: x, 1: y, 2: z)
+  double lo[2] = {0, 0};         // the grid's corner
+  double cell[2] = {1, 1};       // a cell's size
+  int cells[2] = {1, 1};         // cells along u and v
+  std::vector<uint32_t> first;   // cell c = cu + cells[0] * cv lists items[first[c], first[c + 1])
+  std::vector<uint32_t> items;   // triangle indices
+  std::vector<std::array<double, 4>> boxes;  // per triangle: lo u, lo v, hi u, hi v
+  double deviation = 0;  // the farthest any vertex is from the plane (normal through vertices[0])
+  double diagonal = 0;   // of the vertices' bounding box
 };
 
 // A triangle mesh in its own space, loaded once per file and shared by every
