@@ -173,6 +173,15 @@ class BvhAccelerator final : public Accelerator {
         bounds[i] = object_bounds(scene, i);
     }
     bvh_ = build_bvh(bounds, build_options, scene.camera.position);
+    slots_.reserve(bvh_.primitives.size());
+    for (const uint32_t object : bvh_.primitives) {
+      const Object& o = scene.objects[object];
+      Slot slot;
+      slot.object = object;
+      slot.is_sphere = o.type == ShapeType::sphere && o.transform == kNoTransform;
+      if (slot.is_sphere) slot.sphere = scene.spheres[o.shape];
+      slots_.push_back(slot);
+    }
     // Packets take the fast path when the only finite object is one mesh.
     uint32_t finite = 0;
     for (uint32_t i = 0; i < scene.objects.size(); ++i)
@@ -199,10 +208,24 @@ class BvhAccelerator final : public Accelerator {
       // One mesh: its own BVH is the whole tree (the top level would hold one box).
       found |= intersect_object(scene_, single_mesh_, ray, best, &mesh_bvhs_);
     } else {
-      found |= traverse_closest(bvh_, ray, [&](uint32_t object, Ray& r) {
-        if (!intersect_object(scene_, object, r, best, &mesh_bvhs_)) return false;
-        r.t_max = best.t;
-        return true;
+      found |= traverse_closest_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, Ray& r) {
+        bool hit = false;
+        for (uint32_t i = first; i < first + count; ++i) {
+          const Slot& slot = slots_[i];
+          if (slot.is_sphere) {
+            // intersect_object's sphere case, without its two lookups.
+            if (const auto t = intersect_sphere(slot.sphere, r)) {
+              set_hit(best, *t, slot.object, 0, 0, 0, 0);
+              best.vertices = {};
+              r.t_max = *t;
+              hit = true;
+            }
+          } else if (intersect_object(scene_, slot.object, r, best, &mesh_bvhs_)) {
+            r.t_max = best.t;
+            hit = true;
+          }
+        }
+        return hit;
       });
     }
     if (!found) result.reset();
@@ -276,28 +299,43 @@ class BvhAccelerator final : public Accelerator {
       return occludes_object(scene_, single_mesh_, ray, &mesh_bvhs_) ? std::optional<uint32_t>(single_mesh_)
                                                                       : std::nullopt;
     std::optional<uint32_t> blocker;
-    traverse_any(bvh_, ray, [&](uint32_t object, const Ray& r) {
-      if (!occludes_object(scene_, object, r, &mesh_bvhs_)) return false;
-      blocker = object;
-      return true;
+    traverse_any_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, const Ray& r) {
+      for (uint32_t i = first; i < first + count; ++i) {
+        const Slot& slot = slots_[i];
+        if (slot.is_sphere ? intersect_sphere(slot.sphere, r).has_value()
+                           : occludes_object(scene_, slot.object, r, &mesh_bvhs_)) {
+          blocker = slot.object;
+          return true;
+        }
+      }
+      return false;
     });
     return blocker;
   }
 
   size_t memory_bytes() const override {
     size_t bytes = bvh_.nodes.capacity() * sizeof(BvhNode) + bvh_.primitives.capacity() * sizeof(uint32_t) +
-                   planes_.capacity() * sizeof(uint32_t);
+                   slots_.capacity() * sizeof(Slot) + planes_.capacity() * sizeof(uint32_t);
     for (const MeshBvh& b : mesh_bvhs_) bytes += b.memory_bytes();
     return bytes;
   }
 
  private:
   static constexpr uint32_t kNone = ~0u;
+  // What a leaf tests, in the tree's order (slots_[k] is bvh_.primitives[k]):
+  // the object, and an untransformed sphere's own numbers, so that a
+  // sphereflake's leaves read one array instead of objects[] and spheres[].
+  struct Slot {
+    Sphere sphere;
+    uint32_t object = 0;
+    bool is_sphere = false;
+  };
   const Scene& scene_;
   std::vector<uint32_t> planes_;
   uint32_t single_mesh_ = kNone;
   std::vector<MeshBvh> mesh_bvhs_;
   Bvh bvh_;
+  std::vector<Slot> slots_;
 };
 
 class BruteForceAccelerator final : public Accelerator {
