@@ -408,6 +408,49 @@ TEST(ShadowCache, SameAnswersAsOccludedWhateverIsCached) {
   EXPECT_LT(blocked, 1800);
 }
 
+// The BVH tests a leaf's untransformed spheres four at a time before the
+// one-by-one test: the same closest hits (object and t, bit for bit) and the
+// same occlusion answers as testing every object, on spheres of many sizes,
+// some of them transformed, from rays inside, outside and grazing.
+TEST(SphereLeaves, SameAnswersAsBruteForce) {
+  Scene scene;
+  Rng rng(41);
+  for (int i = 0; i < 600; ++i) {
+    const Sphere s{{rng.next_double() * 20 - 10, rng.next_double() * 20 - 10, rng.next_double() * 20 - 10},
+                   0.05 + rng.next_double() * (i % 7 == 0 ? 3.0 : 0.6)};
+    std::optional<Transform> xf;
+    if (i % 11 == 0) xf = Transform::scale({1, 0.5 + rng.next_double(), 1});
+    add_sphere(scene, s, 0, xf);
+  }
+  const auto bvh = build_accelerator(scene);
+  const auto brute = build_brute_force(scene);
+  int hits = 0, blocked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 from(rng.next_double() * 30 - 15, rng.next_double() * 30 - 15, rng.next_double() * 30 - 15);
+    Ray ray{from, {rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5}};
+    if (i % 3 == 0) {
+      // Aimed at a sphere's rim: grazing rays.
+      const Sphere& s = scene.spheres[static_cast<size_t>(rng.next_double() * scene.spheres.size())];
+      const Vec3 d = normalize(s.center - from);
+      const Vec3 across = normalize(cross(d, Vec3(0.3, 1, 0.1)));
+      ray.direction = (s.center + (s.radius * (1 + 1e-9 * (rng.next_double() - 0.5))) * across) - from;
+    }
+    const auto a = bvh->intersect(ray), b = brute->intersect(ray);
+    ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << i;
+    if (a) {
+      ++hits;
+      EXPECT_EQ(a->object, b->object) << "ray " << i;
+      EXPECT_EQ(a->t, b->t) << "ray " << i;
+    }
+    ray.t_max = 0.2 + rng.next_double();  // a shadow ray's segment
+    const bool occluded = brute->occluded(ray);
+    blocked += occluded;
+    EXPECT_EQ(bvh->occluded(ray), occluded) << "ray " << i;
+  }
+  EXPECT_GT(hits, 2000);
+  EXPECT_GT(blocked, 500);
+}
+
 TEST(Packets, SameHitsAsSingleRays) {
   Scene scene;
   Mesh sphere = icosphere(4, 1.0);  // 5120 triangles

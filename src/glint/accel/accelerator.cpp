@@ -156,6 +156,44 @@ bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, c
 
 namespace {
 
+// Up to four untransformed spheres of one BVH leaf, by coordinate, for a
+// test of all of them at once (SphereLeaf::maybe_hit).
+struct alignas(32) SphereLeaf {
+  double cx[4], cy[4], cz[4], r[4];
+  uint32_t count = 0;
+
+  // Bit i set unless intersect_sphere(sphere i, ray) would stop at its
+  // discriminant: the same operations in the same order, four lanes at a
+  // time (no fused multiply-add, as everywhere), so the same decision; the
+  // spheres left are then tested one by one as before.
+  int maybe_hit(const Ray& ray) const {
+    const int lanes = (1 << count) - 1;
+#if defined(__AVX__)
+    const __m256d dx = _mm256_set1_pd(ray.direction.x), dy = _mm256_set1_pd(ray.direction.y),
+                  dz = _mm256_set1_pd(ray.direction.z);
+    const __m256d ocx = _mm256_sub_pd(_mm256_set1_pd(ray.origin.x), _mm256_load_pd(cx));
+    const __m256d ocy = _mm256_sub_pd(_mm256_set1_pd(ray.origin.y), _mm256_load_pd(cy));
+    const __m256d ocz = _mm256_sub_pd(_mm256_set1_pd(ray.origin.z), _mm256_load_pd(cz));
+    const __m256d a = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    const __m256d b =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ocx, dx), _mm256_mul_pd(ocy, dy)), _mm256_mul_pd(ocz, dz));
+    const __m256d k = _mm256_div_pd(b, a);
+    const __m256d fx = _mm256_sub_pd(ocx, _mm256_mul_pd(dx, k));
+    const __m256d fy = _mm256_sub_pd(ocy, _mm256_mul_pd(dy, k));
+    const __m256d fz = _mm256_sub_pd(ocz, _mm256_mul_pd(dz, k));
+    const __m256d f2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(fx, fx), _mm256_mul_pd(fy, fy)), _mm256_mul_pd(fz, fz));
+    const __m256d rr = _mm256_load_pd(r);
+    const __m256d disc = _mm256_mul_pd(a, _mm256_sub_pd(_mm256_mul_pd(rr, rr), f2));
+    // "not disc < 0": NaN goes on to the full test, as there.
+    const int stop = _mm256_movemask_pd(_mm256_cmp_pd(disc, _mm256_setzero_pd(), _CMP_LT_OQ));
+    return ~stop & lanes;
+#else
+    (void)ray;
+    return lanes;
+#endif
+  }
+};
+
 // Two levels: one BVH per mesh (built once, shared by its instances) and one
 // over all finite objects; infinite planes are tested apart.
 class BvhAccelerator final : public Accelerator {
@@ -182,6 +220,27 @@ class BvhAccelerator final : public Accelerator {
       if (slot.is_sphere) slot.sphere = scene.spheres[o.shape];
       slots_.push_back(slot);
     }
+    // Leaves of spheres alone, for maybe_hit.
+    sphere_leaf_.assign(bvh_.primitives.size(), kNone);
+    for (const BvhNode& node : bvh_.nodes)
+      for (int c = 0; c < kBvhWidth; ++c) {
+        const uint32_t first = node.child[c], count = node.count[c];
+        if (count == 0 || count > 4) continue;
+        bool spheres = true;
+        for (uint32_t i = first; i < first + count; ++i) spheres = spheres && slots_[i].is_sphere;
+        if (!spheres) continue;
+        SphereLeaf leaf;
+        leaf.count = count;
+        for (uint32_t i = 0; i < 4; ++i) {
+          const Sphere& sp = slots_[first + std::min(i, count - 1)].sphere;
+          leaf.cx[i] = sp.center.x;
+          leaf.cy[i] = sp.center.y;
+          leaf.cz[i] = sp.center.z;
+          leaf.r[i] = sp.radius;
+        }
+        sphere_leaf_[first] = static_cast<uint32_t>(sphere_leaves_.size());
+        sphere_leaves_.push_back(leaf);
+      }
     // Packets take the fast path when the only finite object is one mesh.
     uint32_t finite = 0;
     for (uint32_t i = 0; i < scene.objects.size(); ++i)
@@ -210,6 +269,18 @@ class BvhAccelerator final : public Accelerator {
     } else {
       found |= traverse_closest_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, Ray& r) {
         bool hit = false;
+        if (const uint32_t leaf = sphere_leaf_[first]; leaf != kNone) {
+          for (int lanes = sphere_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
+            const Slot& slot = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))];
+            if (const auto t = intersect_sphere(slot.sphere, r)) {
+              set_hit(best, *t, slot.object, 0, 0, 0, 0);
+              best.vertices = {};
+              r.t_max = *t;
+              hit = true;
+            }
+          }
+          return hit;
+        }
         for (uint32_t i = first; i < first + count; ++i) {
           const Slot& slot = slots_[i];
           if (slot.is_sphere) {
@@ -300,6 +371,16 @@ class BvhAccelerator final : public Accelerator {
                                                                       : std::nullopt;
     std::optional<uint32_t> blocker;
     traverse_any_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, const Ray& r) {
+      if (const uint32_t leaf = sphere_leaf_[first]; leaf != kNone) {
+        for (int lanes = sphere_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
+          const Slot& slot = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))];
+          if (intersect_sphere(slot.sphere, r)) {
+            blocker = slot.object;
+            return true;
+          }
+        }
+        return false;
+      }
       for (uint32_t i = first; i < first + count; ++i) {
         const Slot& slot = slots_[i];
         if (slot.is_sphere ? intersect_sphere(slot.sphere, r).has_value()
@@ -315,7 +396,8 @@ class BvhAccelerator final : public Accelerator {
 
   size_t memory_bytes() const override {
     size_t bytes = bvh_.nodes.capacity() * sizeof(BvhNode) + bvh_.primitives.capacity() * sizeof(uint32_t) +
-                   slots_.capacity() * sizeof(Slot) + planes_.capacity() * sizeof(uint32_t);
+                   slots_.capacity() * sizeof(Slot) + sphere_leaf_.capacity() * sizeof(uint32_t) +
+                   sphere_leaves_.capacity() * sizeof(SphereLeaf) + planes_.capacity() * sizeof(uint32_t);
     for (const MeshBvh& b : mesh_bvhs_) bytes += b.memory_bytes();
     return bytes;
   }
@@ -336,6 +418,10 @@ class BvhAccelerator final : public Accelerator {
   std::vector<MeshBvh> mesh_bvhs_;
   Bvh bvh_;
   std::vector<Slot> slots_;
+  // Per slot: for a leaf's first slot, its SphereLeaf when the leaf is of
+  // untransformed spheres alone; else kNone.
+  std::vector<uint32_t> sphere_leaf_;
+  std::vector<SphereLeaf> sphere_leaves_;
 };
 
 class BruteForceAccelerator final : public Accelerator {
