@@ -415,19 +415,6 @@ void run(LocalWork& work, int count, const QueueDepth& depth, const Results& res
 
 }  // namespace
 
-bool launched(const std::function<const char*(const char* name)>& environment) {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
-    if (environment(name)) return true;
-  return false;
-}
-
-FaultInjection test_faults(const std::function<const char*(const char* name)>& environment) {
-  FaultInjection faults;
-  if (const char* die = environment("GLINT_TEST_DIE_RANK")) faults.die_rank = std::atoi(die);
-  if (const char* hang = environment("GLINT_TEST_HANG_RANK")) faults.hang_rank = std::atoi(hang);
-  return faults;
-}
-
 Session::Session() {
   int provided = 0;
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);

@@ -1,0 +1,11 @@
+// glint serve through the plugin glint-serve.so (plugin.h).
+#include "glint/program/api.h"
+#include "glint/version.h"
+
+namespace glint::serve {
+
+int run(const ServeOptions& options) {
+  return plugin::api<plugin::ServeApi>("serve", "glint_serve_api", GLINT_VERSION_STRING).run(options);
+}
+
+}  // namespace glint::serve
