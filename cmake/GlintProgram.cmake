@@ -1,5 +1,9 @@
-# The command-line program's own start-up (src/glint/program/): its heavy
-# optional parts as plugins loaded when used.
+# The command-line program's own start-up (src/glint/program/): its heap,
+# and its heavy optional parts as plugins loaded when used.
+
+# The heap: big blocks from malloc's heap, grown ahead in huge pages
+# (src/glint/program/memory.cpp).
+target_sources(glint_cli PRIVATE src/glint/program/memory.cpp)
 
 # The plugins (src/glint/program/plugin.h): glint-embree.so, glint-assimp.so,
 # glint-mpi.so and glint-serve.so beside the program in the build tree, in
