@@ -9,6 +9,7 @@
 
 #include "glint/accel/accelerator.h"
 #include "glint/accel/mesh_bvh.h"
+#include "glint/geometry/polygon.h"
 #include "glint/geometry/shapes.h"
 #include "glint/io/scene_loader.h"
 #include "glint/math/rng.h"
@@ -449,6 +450,65 @@ TEST(SphereLeaves, SameAnswersAsBruteForce) {
   }
   EXPECT_GT(hits, 2000);
   EXPECT_GT(blocked, 500);
+}
+
+// Leaves of plain triangles (triangle objects, polygons of one triangle) get
+// their edge functions four at a time first: the same hits as brute force
+// (object, t, barycentrics, bit for bit) and the same occlusion, on the SPD's
+// tetra (triangles sharing edges and vertices: rays through them) and on
+// random triangles, polygons and transformed ones.
+TEST(TriangleLeaves, SameAnswersAsBruteForce) {
+  Scene scene = load_scene(std::string(GLINT_SOURCE_DIR) + "/bench/spd/tetra.nff");
+  Rng rng(43);
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 c(rng.next_double() * 20 - 10, rng.next_double() * 20 - 10, rng.next_double() * 20 - 10);
+    const auto corner = [&] { return c + Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5); };
+    const Triangle t{corner(), corner(), corner()};
+    if (i % 3 == 0) {
+      add_triangle(scene, t, 0, i % 9 == 0 ? std::optional<Transform>(Transform::scale({1, 2, 1})) : std::nullopt);
+    } else {
+      PolygonBuild b = make_polygon({t.v0, t.v1, t.v2}, {});
+      ASSERT_EQ(b.error, "");
+      add_polygon(scene, std::move(b.polygon), 0,
+                  i % 7 == 0 ? std::optional<Transform>(Transform::translate({0, 1, 0})) : std::nullopt);
+    }
+  }
+  const auto bvh = build_accelerator(scene);
+  const auto brute = build_brute_force(scene);
+  int hits = 0, blocked = 0, ties = 0;
+  for (int i = 0; i < 8000; ++i) {
+    Vec3 from(rng.next_double() * 30 - 15, rng.next_double() * 30 - 15, rng.next_double() * 30 - 15);
+    Vec3 to(rng.next_double() * 2 - 1, rng.next_double() * 2 - 1, rng.next_double() * 2 - 1);
+    if (i % 4 == 0) {
+      // Through a vertex or along an edge of one of tetra's triangles.
+      const Polygon& p = scene.polygons[static_cast<size_t>(rng.next_double() * 4096)];
+      to = i % 8 == 0 ? p.vertices[0] : p.vertices[0] + rng.next_double() * (p.vertices[1] - p.vertices[0]);
+      from = to + Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5) * 8.0;
+    }
+    Ray ray{from, to - from};
+    const auto a = bvh->intersect(ray), b = brute->intersect(ray);
+    ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << i;
+    if (a) {
+      ++hits;
+      EXPECT_EQ(a->t, b->t) << "ray " << i;
+      // Through a shared vertex or edge several triangles are hit at the
+      // same t: the tree and the list may each keep another one of them.
+      if (a->object == b->object) {
+        EXPECT_EQ(a->b1, b->b1) << "ray " << i;
+        EXPECT_EQ(a->b2, b->b2) << "ray " << i;
+        EXPECT_EQ(a->primitive, b->primitive) << "ray " << i;
+      } else {
+        ++ties;
+      }
+    }
+    ray.t_max = 0.3 + rng.next_double() * 0.7;
+    const bool occluded = brute->occluded(ray);
+    blocked += occluded;
+    EXPECT_EQ(bvh->occluded(ray), occluded) << "ray " << i;
+  }
+  EXPECT_GT(hits, 1600);
+  EXPECT_LT(ties, hits / 10);
+  EXPECT_GT(blocked, 200);
 }
 
 TEST(Packets, SameHitsAsSingleRays) {

@@ -1,8 +1,11 @@
 #include "glint/accel/accelerator.h"
 
+#include <optional>
+
 #include "glint/accel/bvh.h"
 #include "glint/accel/mesh_bvh.h"
 #include "glint/geometry/shapes.h"
+#include "glint/geometry/triangle_shear.h"
 
 namespace glint {
 
@@ -194,6 +197,80 @@ struct alignas(32) SphereLeaf {
   }
 };
 
+// Up to four untransformed triangles of one BVH leaf (triangle objects, and
+// polygons of one triangle), by vertex and coordinate, for the watertight
+// test's edge functions of all of them at once (TriangleLeaf::maybe_hit).
+struct alignas(32) TriangleLeaf {
+  double v[3][3][4];  // [vertex][axis][lane]
+  uint32_t count = 0;
+
+  // Bit i set unless intersect_triangle on triangle i would stop at its
+  // edge functions' signs: watertight::shear_triangle_in's operations in the
+  // same order, four lanes at a time, so the same decision (a zero edge
+  // function, which it recomputes in long double, is left to it).
+  int maybe_hit(const Ray& ray) const {
+    const int lanes = (1 << count) - 1;
+#if defined(__AVX__)
+    const Vec3& d = ray.direction;
+    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    if (ax > ay) return lanes & (ax > az ? inside<0>(ray) : inside<2>(ray));
+    return lanes & (ay > az ? inside<1>(ray) : inside<2>(ray));
+#else
+    (void)ray;
+    return lanes;
+#endif
+  }
+
+ private:
+#if defined(__AVX__)
+  template <int kz>
+  int inside(const Ray& ray) const {
+    using A = watertight::ShearAxes<kz>;
+    const Vec3& d = ray.direction;
+    const double sz = 1.0 / A::z(d), sx = -A::x(d) * sz, sy = -A::y(d) * sz;
+    const __m256d vsx = _mm256_set1_pd(sx), vsy = _mm256_set1_pd(sy);
+    __m256d x2[3], y2[3];
+    for (int j = 0; j < 3; ++j) {
+      const __m256d px = _mm256_sub_pd(_mm256_load_pd(v[j][A::kx]), _mm256_set1_pd(A::x(ray.origin)));
+      const __m256d py = _mm256_sub_pd(_mm256_load_pd(v[j][A::ky]), _mm256_set1_pd(A::y(ray.origin)));
+      const __m256d pz = _mm256_sub_pd(_mm256_load_pd(v[j][kz]), _mm256_set1_pd(A::z(ray.origin)));
+      x2[j] = _mm256_add_pd(px, _mm256_mul_pd(vsx, pz));
+      y2[j] = _mm256_add_pd(py, _mm256_mul_pd(vsy, pz));
+    }
+    const __m256d e0 = _mm256_sub_pd(_mm256_mul_pd(x2[1], y2[2]), _mm256_mul_pd(y2[1], x2[2]));
+    const __m256d e1 = _mm256_sub_pd(_mm256_mul_pd(x2[2], y2[0]), _mm256_mul_pd(y2[2], x2[0]));
+    const __m256d e2 = _mm256_sub_pd(_mm256_mul_pd(x2[0], y2[1]), _mm256_mul_pd(y2[0], x2[1]));
+    const __m256d zero = _mm256_setzero_pd();
+    const auto any = [&](int predicate_lt) {
+      const __m256d a = predicate_lt ? _mm256_cmp_pd(e0, zero, _CMP_LT_OQ) : _mm256_cmp_pd(e0, zero, _CMP_GT_OQ);
+      const __m256d b = predicate_lt ? _mm256_cmp_pd(e1, zero, _CMP_LT_OQ) : _mm256_cmp_pd(e1, zero, _CMP_GT_OQ);
+      const __m256d c = predicate_lt ? _mm256_cmp_pd(e2, zero, _CMP_LT_OQ) : _mm256_cmp_pd(e2, zero, _CMP_GT_OQ);
+      return _mm256_movemask_pd(_mm256_or_pd(_mm256_or_pd(a, b), c));
+    };
+    const int zeros = _mm256_movemask_pd(_mm256_or_pd(
+        _mm256_or_pd(_mm256_cmp_pd(e0, zero, _CMP_EQ_OQ), _mm256_cmp_pd(e1, zero, _CMP_EQ_OQ)),
+        _mm256_cmp_pd(e2, zero, _CMP_EQ_OQ)));
+    const int outside = any(1) & any(0) & ~zeros;
+    return ~outside;
+  }
+#endif
+};
+
+// The leaf's untransformed triangle (a triangle object or a polygon of one
+// triangle) as intersect_object tests it, or nothing.
+std::optional<Triangle> plain_triangle(const Scene& scene, uint32_t object) {
+  const Object& o = scene.objects[object];
+  if (o.transform != kNoTransform) return std::nullopt;
+  if (o.type == ShapeType::triangle) return scene.triangles[o.shape];
+  if (o.type == ShapeType::polygon) {
+    const Polygon& p = scene.polygons[o.shape];
+    if (p.triangles.size() != 1) return std::nullopt;
+    const auto& t = p.triangles[0];
+    return Triangle{p.vertices[t[0]], p.vertices[t[1]], p.vertices[t[2]]};
+  }
+  return std::nullopt;
+}
+
 // Two levels: one BVH per mesh (built once, shared by its instances) and one
 // over all finite objects; infinite planes are tested apart.
 class BvhAccelerator final : public Accelerator {
@@ -220,26 +297,44 @@ class BvhAccelerator final : public Accelerator {
       if (slot.is_sphere) slot.sphere = scene.spheres[o.shape];
       slots_.push_back(slot);
     }
-    // Leaves of spheres alone, for maybe_hit.
-    sphere_leaf_.assign(bvh_.primitives.size(), kNone);
+    // Leaves of spheres alone, and of plain triangles alone, for maybe_hit.
+    leaf_.assign(bvh_.primitives.size(), kNone);
     for (const BvhNode& node : bvh_.nodes)
       for (int c = 0; c < kBvhWidth; ++c) {
         const uint32_t first = node.child[c], count = node.count[c];
         if (count == 0 || count > 4) continue;
-        bool spheres = true;
-        for (uint32_t i = first; i < first + count; ++i) spheres = spheres && slots_[i].is_sphere;
-        if (!spheres) continue;
-        SphereLeaf leaf;
-        leaf.count = count;
-        for (uint32_t i = 0; i < 4; ++i) {
-          const Sphere& sp = slots_[first + std::min(i, count - 1)].sphere;
-          leaf.cx[i] = sp.center.x;
-          leaf.cy[i] = sp.center.y;
-          leaf.cz[i] = sp.center.z;
-          leaf.r[i] = sp.radius;
+        bool spheres = true, triangles = true;
+        Triangle tri[4];
+        for (uint32_t i = 0; i < count; ++i) {
+          spheres = spheres && slots_[first + i].is_sphere;
+          const std::optional<Triangle> t = triangles ? plain_triangle(scene, slots_[first + i].object) : std::nullopt;
+          triangles = t.has_value();
+          if (t) tri[i] = *t;
         }
-        sphere_leaf_[first] = static_cast<uint32_t>(sphere_leaves_.size());
-        sphere_leaves_.push_back(leaf);
+        if (spheres) {
+          SphereLeaf leaf;
+          leaf.count = count;
+          for (uint32_t i = 0; i < 4; ++i) {
+            const Sphere& sp = slots_[first + std::min(i, count - 1)].sphere;
+            leaf.cx[i] = sp.center.x;
+            leaf.cy[i] = sp.center.y;
+            leaf.cz[i] = sp.center.z;
+            leaf.r[i] = sp.radius;
+          }
+          leaf_[first] = static_cast<uint32_t>(sphere_leaves_.size());
+          sphere_leaves_.push_back(leaf);
+        } else if (triangles) {
+          TriangleLeaf leaf;
+          leaf.count = count;
+          for (uint32_t i = 0; i < 4; ++i) {
+            const Triangle& t = tri[std::min(i, count - 1)];
+            const Vec3* vertex[3] = {&t.v0, &t.v1, &t.v2};
+            for (int j = 0; j < 3; ++j)
+              for (int a = 0; a < 3; ++a) leaf.v[j][a][i] = (*vertex[j])[a];
+          }
+          leaf_[first] = kTriangleLeaf | static_cast<uint32_t>(triangle_leaves_.size());
+          triangle_leaves_.push_back(leaf);
+        }
       }
     // Packets take the fast path when the only finite object is one mesh.
     uint32_t finite = 0;
@@ -269,7 +364,17 @@ class BvhAccelerator final : public Accelerator {
     } else {
       found |= traverse_closest_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, Ray& r) {
         bool hit = false;
-        if (const uint32_t leaf = sphere_leaf_[first]; leaf != kNone) {
+        if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
+          if (leaf & kTriangleLeaf) {
+            for (int lanes = triangle_leaves_[leaf & ~kTriangleLeaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
+              const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
+              if (intersect_object(scene_, object, r, best, &mesh_bvhs_)) {
+                r.t_max = best.t;
+                hit = true;
+              }
+            }
+            return hit;
+          }
           for (int lanes = sphere_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
             const Slot& slot = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))];
             if (const auto t = intersect_sphere(slot.sphere, r)) {
@@ -371,7 +476,17 @@ class BvhAccelerator final : public Accelerator {
                                                                       : std::nullopt;
     std::optional<uint32_t> blocker;
     traverse_any_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, const Ray& r) {
-      if (const uint32_t leaf = sphere_leaf_[first]; leaf != kNone) {
+      if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
+        if (leaf & kTriangleLeaf) {
+          for (int lanes = triangle_leaves_[leaf & ~kTriangleLeaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
+            const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
+            if (occludes_object(scene_, object, r, &mesh_bvhs_)) {
+              blocker = object;
+              return true;
+            }
+          }
+          return false;
+        }
         for (int lanes = sphere_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
           const Slot& slot = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))];
           if (intersect_sphere(slot.sphere, r)) {
@@ -396,8 +511,9 @@ class BvhAccelerator final : public Accelerator {
 
   size_t memory_bytes() const override {
     size_t bytes = bvh_.nodes.capacity() * sizeof(BvhNode) + bvh_.primitives.capacity() * sizeof(uint32_t) +
-                   slots_.capacity() * sizeof(Slot) + sphere_leaf_.capacity() * sizeof(uint32_t) +
-                   sphere_leaves_.capacity() * sizeof(SphereLeaf) + planes_.capacity() * sizeof(uint32_t);
+                   slots_.capacity() * sizeof(Slot) + leaf_.capacity() * sizeof(uint32_t) +
+                   sphere_leaves_.capacity() * sizeof(SphereLeaf) + triangle_leaves_.capacity() * sizeof(TriangleLeaf) +
+                   planes_.capacity() * sizeof(uint32_t);
     for (const MeshBvh& b : mesh_bvhs_) bytes += b.memory_bytes();
     return bytes;
   }
@@ -419,9 +535,12 @@ class BvhAccelerator final : public Accelerator {
   Bvh bvh_;
   std::vector<Slot> slots_;
   // Per slot: for a leaf's first slot, its SphereLeaf when the leaf is of
-  // untransformed spheres alone; else kNone.
-  std::vector<uint32_t> sphere_leaf_;
+  // untransformed spheres alone, or kTriangleLeaf | its TriangleLeaf when of
+  // plain triangles alone; else kNone.
+  static constexpr uint32_t kTriangleLeaf = 1u << 31;
+  std::vector<uint32_t> leaf_;
   std::vector<SphereLeaf> sphere_leaves_;
+  std::vector<TriangleLeaf> triangle_leaves_;
 };
 
 class BruteForceAccelerator final : public Accelerator {
