@@ -4,11 +4,12 @@
 // and a render touches thousands: the scene's document, the scene, the
 // accelerator, the image. So glibc's malloc serves blocks of up to 32 MiB
 // from its heap and keeps what is freed (the next phase reuses pages already
-// there), and the heap grows once, by 64 MiB ahead, advised to the kernel as
-// huge-page memory: where transparent huge pages are on ("madvise" mode,
-// Debian's default) it costs one fault per 2 MiB. That is the program's
-// choice for its own process, as GLIBC_TUNABLES=glibc.malloc.hugetlb=1 would
-// make it; the library never changes the allocator of the program it is in.
+// there), every thread allocates from it, and it grows once, by 64 MiB ahead,
+// advised to the kernel as huge-page memory: where transparent huge pages
+// are on ("madvise" mode, Debian's default) it costs one fault per 2 MiB.
+// That is the program's choice for its own process (glibc's tunables
+// hugetlb=1 and arena_max=1 would make much the same one); the library never
+// changes the allocator of the program it is in.
 // Measured in docs/performance.md ("SPD scenes").
 #include <cstddef>
 #include <cstdint>
@@ -34,14 +35,25 @@ void set_up_heap() {
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   mallopt(M_TOP_PAD, static_cast<int>(kHeapAhead));
-  // A block bigger than what is left at the top makes malloc grow the heap
-  // now, by the block and the pad; freed, it stays there as free space.
-  const auto before = reinterpret_cast<uintptr_t>(sbrk(0));
-  void* grow = std::malloc(size_t{1} << 20);
-  std::free(grow);
+  // One heap for every thread: another thread's would be a fresh mapping of
+  // small pages (the accelerator's build threads allocate as much as the
+  // main one). The render threads hardly allocate, so they do not wait on it.
+  mallopt(M_ARENA_MAX, 1);
+  // The program break moved up to a huge page boundary (glibc takes a break
+  // moved by someone else as a new start of its heap). Then a block of
+  // nearly 2 MiB, kept for good, makes malloc grow the heap now by the block
+  // and the pad, and fills the first huge page, whose small pages malloc's
+  // bookkeeping has touched: a huge page only backs 2 MiB none of whose small
+  // pages is in use yet. What malloc hands out next comes from the huge pages
+  // advised here.
+  const auto now = reinterpret_cast<uintptr_t>(sbrk(0));
+  const uintptr_t first = (now + kHugePage - 1) & ~(kHugePage - 1);
+  if (now == static_cast<uintptr_t>(-1) || sbrk(static_cast<intptr_t>(first - now)) == reinterpret_cast<void*>(-1))
+    return;
+  static void* const first_page = std::malloc(kHugePage - 256);
   const auto after = reinterpret_cast<uintptr_t>(sbrk(0));
-  const uintptr_t first = (before + kHugePage - 1) & ~(kHugePage - 1), last = after & ~(kHugePage - 1);
-  if (grow && last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+  const uintptr_t from = first + kHugePage, to = after & ~(kHugePage - 1);
+  if (first_page && to > from) madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
 }
 
 #else
