@@ -161,17 +161,25 @@ namespace {
 
 // Up to four untransformed spheres of one BVH leaf, by coordinate, for a
 // test of all of them at once (SphereLeaf::maybe_hit).
+#if defined(__AVX__)
+inline constexpr bool kSphereLeaves = true;
+#else
+inline constexpr bool kSphereLeaves = false;  // no leaf is made one: SphereLeaf::roots is not called
+#endif
+
 struct alignas(32) SphereLeaf {
   double cx[4], cy[4], cz[4], r[4];
   uint32_t count = 0;
 
-  // Bit i set unless intersect_sphere(sphere i, ray) would stop at its
-  // discriminant: the same operations in the same order, four lanes at a
-  // time (no fused multiply-add, as everywhere), so the same decision; the
-  // spheres left are then tested one by one as before.
-  int maybe_hit(const Ray& ray) const {
-    const int lanes = (1 << count) - 1;
+  // The roots intersect_sphere finds for each sphere, t0 <= t1, by the same
+  // operations in the same order, four lanes at a time (no fused
+  // multiply-add, as everywhere; IEEE division and square root are exact in
+  // both), so the same numbers. Bit i of the result is set unless sphere i's
+  // discriminant is negative, where intersect_sphere stops; `hit` then picks
+  // the root it would return for the ray's interval of that moment.
+  int roots(const Ray& ray, double* t0, double* t1) const {
 #if defined(__AVX__)
+    const int lanes = (1 << count) - 1;
     const __m256d dx = _mm256_set1_pd(ray.direction.x), dy = _mm256_set1_pd(ray.direction.y),
                   dz = _mm256_set1_pd(ray.direction.z);
     const __m256d ocx = _mm256_sub_pd(_mm256_set1_pd(ray.origin.x), _mm256_load_pd(cx));
@@ -186,14 +194,39 @@ struct alignas(32) SphereLeaf {
     const __m256d fz = _mm256_sub_pd(ocz, _mm256_mul_pd(dz, k));
     const __m256d f2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(fx, fx), _mm256_mul_pd(fy, fy)), _mm256_mul_pd(fz, fz));
     const __m256d rr = _mm256_load_pd(r);
-    const __m256d disc = _mm256_mul_pd(a, _mm256_sub_pd(_mm256_mul_pd(rr, rr), f2));
-    // "not disc < 0": NaN goes on to the full test, as there.
+    const __m256d r2 = _mm256_mul_pd(rr, rr);
+    const __m256d disc = _mm256_mul_pd(a, _mm256_sub_pd(r2, f2));
+    // "not disc < 0": NaN goes on to the roots, as there.
     const int stop = _mm256_movemask_pd(_mm256_cmp_pd(disc, _mm256_setzero_pd(), _CMP_LT_OQ));
-    return ~stop & lanes;
+    const int go = ~stop & lanes;
+    if (!go) return 0;
+    const __m256d c = _mm256_sub_pd(
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ocx, ocx), _mm256_mul_pd(ocy, ocy)), _mm256_mul_pd(ocz, ocz)), r2);
+    // q = -(b + copysign(sqrt(disc), b))
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m256d root = _mm256_or_pd(_mm256_andnot_pd(sign, _mm256_sqrt_pd(disc)), _mm256_and_pd(sign, b));
+    const __m256d q = _mm256_xor_pd(_mm256_add_pd(b, root), sign);
+    __m256d lo = _mm256_div_pd(q, a);
+    const __m256d q_zero = _mm256_cmp_pd(q, _mm256_setzero_pd(), _CMP_EQ_OQ);
+    __m256d hi = _mm256_blendv_pd(_mm256_div_pd(c, q), lo, q_zero);
+    const __m256d swap = _mm256_cmp_pd(lo, hi, _CMP_GT_OQ);
+    const __m256d lo2 = _mm256_blendv_pd(lo, hi, swap);
+    hi = _mm256_blendv_pd(hi, lo, swap);
+    lo = lo2;
+    _mm256_storeu_pd(t0, lo);
+    _mm256_storeu_pd(t1, hi);
+    return go;
 #else
-    (void)ray;
-    return lanes;
+    (void)ray, (void)t0, (void)t1;
+    return 0;
 #endif
+  }
+
+  // intersect_sphere's answer for lane i from its roots.
+  static std::optional<double> hit(double t0, double t1, const Ray& ray) {
+    if (t0 > ray.t_min && t0 < ray.t_max) return t0;
+    if (t1 > ray.t_min && t1 < ray.t_max) return t1;
+    return std::nullopt;
   }
 };
 
@@ -311,7 +344,7 @@ class BvhAccelerator final : public Accelerator {
           triangles = t.has_value();
           if (t) tri[i] = *t;
         }
-        if (spheres) {
+        if (spheres && kSphereLeaves) {
           SphereLeaf leaf;
           leaf.count = count;
           for (uint32_t i = 0; i < 4; ++i) {
@@ -375,10 +408,11 @@ class BvhAccelerator final : public Accelerator {
             }
             return hit;
           }
-          for (int lanes = sphere_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-            const Slot& slot = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))];
-            if (const auto t = intersect_sphere(slot.sphere, r)) {
-              set_hit(best, *t, slot.object, 0, 0, 0, 0);
+          double t0[4], t1[4];
+          for (int lanes = sphere_leaves_[leaf].roots(r, t0, t1); lanes; lanes &= lanes - 1) {
+            const int i = __builtin_ctz(static_cast<unsigned>(lanes));
+            if (const auto t = SphereLeaf::hit(t0[i], t1[i], r)) {
+              set_hit(best, *t, slots_[first + static_cast<uint32_t>(i)].object, 0, 0, 0, 0);
               best.vertices = {};
               r.t_max = *t;
               hit = true;
@@ -487,10 +521,11 @@ class BvhAccelerator final : public Accelerator {
           }
           return false;
         }
-        for (int lanes = sphere_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-          const Slot& slot = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))];
-          if (intersect_sphere(slot.sphere, r)) {
-            blocker = slot.object;
+        double t0[4], t1[4];
+        for (int lanes = sphere_leaves_[leaf].roots(r, t0, t1); lanes; lanes &= lanes - 1) {
+          const int i = __builtin_ctz(static_cast<unsigned>(lanes));
+          if (SphereLeaf::hit(t0[i], t1[i], r)) {
+            blocker = slots_[first + static_cast<uint32_t>(i)].object;
             return true;
           }
         }
