@@ -409,10 +409,10 @@ TEST(ShadowCache, SameAnswersAsOccludedWhateverIsCached) {
   EXPECT_LT(blocked, 1800);
 }
 
-// The BVH tests a leaf's untransformed spheres four at a time before the
-// one-by-one test: the same closest hits (object and t, bit for bit) and the
-// same occlusion answers as testing every object, on spheres of many sizes,
-// some of them transformed, from rays inside, outside and grazing.
+// The BVH's leaves test untransformed spheres from their own array: the same
+// closest hits (object and t, bit for bit) and the same occlusion answers as
+// testing every object, on spheres of many sizes, some of them transformed,
+// from rays inside, outside and grazing.
 TEST(SphereLeaves, SameAnswersAsBruteForce) {
   Scene scene;
   Rng rng(41);

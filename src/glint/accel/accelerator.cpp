@@ -159,77 +159,6 @@ bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, c
 
 namespace {
 
-// Up to four untransformed spheres of one BVH leaf, by coordinate, for a
-// test of all of them at once (SphereLeaf::maybe_hit).
-#if defined(__AVX__)
-inline constexpr bool kSphereLeaves = true;
-#else
-inline constexpr bool kSphereLeaves = false;  // no leaf is made one: SphereLeaf::roots is not called
-#endif
-
-struct alignas(32) SphereLeaf {
-  double cx[4], cy[4], cz[4], r[4];
-  uint32_t count = 0;
-
-  // The roots intersect_sphere finds for each sphere, t0 <= t1, by the same
-  // operations in the same order, four lanes at a time (no fused
-  // multiply-add, as everywhere; IEEE division and square root are exact in
-  // both), so the same numbers. Bit i of the result is set unless sphere i's
-  // discriminant is negative, where intersect_sphere stops; `hit` then picks
-  // the root it would return for the ray's interval of that moment.
-  int roots(const Ray& ray, double* t0, double* t1) const {
-#if defined(__AVX__)
-    const int lanes = (1 << count) - 1;
-    const __m256d dx = _mm256_set1_pd(ray.direction.x), dy = _mm256_set1_pd(ray.direction.y),
-                  dz = _mm256_set1_pd(ray.direction.z);
-    const __m256d ocx = _mm256_sub_pd(_mm256_set1_pd(ray.origin.x), _mm256_load_pd(cx));
-    const __m256d ocy = _mm256_sub_pd(_mm256_set1_pd(ray.origin.y), _mm256_load_pd(cy));
-    const __m256d ocz = _mm256_sub_pd(_mm256_set1_pd(ray.origin.z), _mm256_load_pd(cz));
-    const __m256d a = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-    const __m256d b =
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ocx, dx), _mm256_mul_pd(ocy, dy)), _mm256_mul_pd(ocz, dz));
-    const __m256d k = _mm256_div_pd(b, a);
-    const __m256d fx = _mm256_sub_pd(ocx, _mm256_mul_pd(dx, k));
-    const __m256d fy = _mm256_sub_pd(ocy, _mm256_mul_pd(dy, k));
-    const __m256d fz = _mm256_sub_pd(ocz, _mm256_mul_pd(dz, k));
-    const __m256d f2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(fx, fx), _mm256_mul_pd(fy, fy)), _mm256_mul_pd(fz, fz));
-    const __m256d rr = _mm256_load_pd(r);
-    const __m256d r2 = _mm256_mul_pd(rr, rr);
-    const __m256d disc = _mm256_mul_pd(a, _mm256_sub_pd(r2, f2));
-    // "not disc < 0": NaN goes on to the roots, as there.
-    const int stop = _mm256_movemask_pd(_mm256_cmp_pd(disc, _mm256_setzero_pd(), _CMP_LT_OQ));
-    const int go = ~stop & lanes;
-    if (!go) return 0;
-    const __m256d c = _mm256_sub_pd(
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ocx, ocx), _mm256_mul_pd(ocy, ocy)), _mm256_mul_pd(ocz, ocz)), r2);
-    // q = -(b + copysign(sqrt(disc), b))
-    const __m256d sign = _mm256_set1_pd(-0.0);
-    const __m256d root = _mm256_or_pd(_mm256_andnot_pd(sign, _mm256_sqrt_pd(disc)), _mm256_and_pd(sign, b));
-    const __m256d q = _mm256_xor_pd(_mm256_add_pd(b, root), sign);
-    __m256d lo = _mm256_div_pd(q, a);
-    const __m256d q_zero = _mm256_cmp_pd(q, _mm256_setzero_pd(), _CMP_EQ_OQ);
-    __m256d hi = _mm256_blendv_pd(_mm256_div_pd(c, q), lo, q_zero);
-    const __m256d swap = _mm256_cmp_pd(lo, hi, _CMP_GT_OQ);
-    const __m256d lo2 = _mm256_blendv_pd(lo, hi, swap);
-    hi = _mm256_blendv_pd(hi, lo, swap);
-    lo = lo2;
-    _mm256_storeu_pd(t0, lo);
-    _mm256_storeu_pd(t1, hi);
-    return go;
-#else
-    (void)ray, (void)t0, (void)t1;
-    return 0;
-#endif
-  }
-
-  // intersect_sphere's answer for lane i from its roots.
-  static std::optional<double> hit(double t0, double t1, const Ray& ray) {
-    if (t0 > ray.t_min && t0 < ray.t_max) return t0;
-    if (t1 > ray.t_min && t1 < ray.t_max) return t1;
-    return std::nullopt;
-  }
-};
-
 // Up to four untransformed triangles of one BVH leaf (triangle objects, and
 // polygons of one triangle), by vertex and coordinate, for the watertight
 // test's edge functions of all of them at once (TriangleLeaf::maybe_hit).
@@ -330,33 +259,20 @@ class BvhAccelerator final : public Accelerator {
       if (slot.is_sphere) slot.sphere = scene.spheres[o.shape];
       slots_.push_back(slot);
     }
-    // Leaves of spheres alone, and of plain triangles alone, for maybe_hit.
+    // Leaves of plain triangles alone, for TriangleLeaf::maybe_hit.
     leaf_.assign(bvh_.primitives.size(), kNone);
     for (const BvhNode& node : bvh_.nodes)
       for (int c = 0; c < kBvhWidth; ++c) {
         const uint32_t first = node.child[c], count = node.count[c];
         if (count == 0 || count > 4) continue;
-        bool spheres = true, triangles = true;
+        bool triangles = true;
         Triangle tri[4];
         for (uint32_t i = 0; i < count; ++i) {
-          spheres = spheres && slots_[first + i].is_sphere;
           const std::optional<Triangle> t = triangles ? plain_triangle(scene, slots_[first + i].object) : std::nullopt;
           triangles = t.has_value();
           if (t) tri[i] = *t;
         }
-        if (spheres && kSphereLeaves) {
-          SphereLeaf leaf;
-          leaf.count = count;
-          for (uint32_t i = 0; i < 4; ++i) {
-            const Sphere& sp = slots_[first + std::min(i, count - 1)].sphere;
-            leaf.cx[i] = sp.center.x;
-            leaf.cy[i] = sp.center.y;
-            leaf.cz[i] = sp.center.z;
-            leaf.r[i] = sp.radius;
-          }
-          leaf_[first] = static_cast<uint32_t>(sphere_leaves_.size());
-          sphere_leaves_.push_back(leaf);
-        } else if (triangles) {
+        if (triangles) {
           TriangleLeaf leaf;
           leaf.count = count;
           for (uint32_t i = 0; i < 4; ++i) {
@@ -365,7 +281,7 @@ class BvhAccelerator final : public Accelerator {
             for (int j = 0; j < 3; ++j)
               for (int a = 0; a < 3; ++a) leaf.v[j][a][i] = (*vertex[j])[a];
           }
-          leaf_[first] = kTriangleLeaf | static_cast<uint32_t>(triangle_leaves_.size());
+          leaf_[first] = static_cast<uint32_t>(triangle_leaves_.size());
           triangle_leaves_.push_back(leaf);
         }
       }
@@ -398,23 +314,10 @@ class BvhAccelerator final : public Accelerator {
       found |= traverse_closest_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, Ray& r) {
         bool hit = false;
         if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
-          if (leaf & kTriangleLeaf) {
-            for (int lanes = triangle_leaves_[leaf & ~kTriangleLeaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-              const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
-              if (intersect_object(scene_, object, r, best, &mesh_bvhs_)) {
-                r.t_max = best.t;
-                hit = true;
-              }
-            }
-            return hit;
-          }
-          double t0[4], t1[4];
-          for (int lanes = sphere_leaves_[leaf].roots(r, t0, t1); lanes; lanes &= lanes - 1) {
-            const int i = __builtin_ctz(static_cast<unsigned>(lanes));
-            if (const auto t = SphereLeaf::hit(t0[i], t1[i], r)) {
-              set_hit(best, *t, slots_[first + static_cast<uint32_t>(i)].object, 0, 0, 0, 0);
-              best.vertices = {};
-              r.t_max = *t;
+          for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
+            const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
+            if (intersect_object(scene_, object, r, best, &mesh_bvhs_)) {
+              r.t_max = best.t;
               hit = true;
             }
           }
@@ -511,21 +414,10 @@ class BvhAccelerator final : public Accelerator {
     std::optional<uint32_t> blocker;
     traverse_any_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, const Ray& r) {
       if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
-        if (leaf & kTriangleLeaf) {
-          for (int lanes = triangle_leaves_[leaf & ~kTriangleLeaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-            const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
-            if (occludes_object(scene_, object, r, &mesh_bvhs_)) {
-              blocker = object;
-              return true;
-            }
-          }
-          return false;
-        }
-        double t0[4], t1[4];
-        for (int lanes = sphere_leaves_[leaf].roots(r, t0, t1); lanes; lanes &= lanes - 1) {
-          const int i = __builtin_ctz(static_cast<unsigned>(lanes));
-          if (SphereLeaf::hit(t0[i], t1[i], r)) {
-            blocker = slots_[first + static_cast<uint32_t>(i)].object;
+        for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
+          const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
+          if (occludes_object(scene_, object, r, &mesh_bvhs_)) {
+            blocker = object;
             return true;
           }
         }
@@ -547,8 +439,7 @@ class BvhAccelerator final : public Accelerator {
   size_t memory_bytes() const override {
     size_t bytes = bvh_.nodes.capacity() * sizeof(BvhNode) + bvh_.primitives.capacity() * sizeof(uint32_t) +
                    slots_.capacity() * sizeof(Slot) + leaf_.capacity() * sizeof(uint32_t) +
-                   sphere_leaves_.capacity() * sizeof(SphereLeaf) + triangle_leaves_.capacity() * sizeof(TriangleLeaf) +
-                   planes_.capacity() * sizeof(uint32_t);
+                   triangle_leaves_.capacity() * sizeof(TriangleLeaf) + planes_.capacity() * sizeof(uint32_t);
     for (const MeshBvh& b : mesh_bvhs_) bytes += b.memory_bytes();
     return bytes;
   }
@@ -569,12 +460,9 @@ class BvhAccelerator final : public Accelerator {
   std::vector<MeshBvh> mesh_bvhs_;
   Bvh bvh_;
   std::vector<Slot> slots_;
-  // Per slot: for a leaf's first slot, its SphereLeaf when the leaf is of
-  // untransformed spheres alone, or kTriangleLeaf | its TriangleLeaf when of
+  // Per slot: for a leaf's first slot, its TriangleLeaf when the leaf is of
   // plain triangles alone; else kNone.
-  static constexpr uint32_t kTriangleLeaf = 1u << 31;
   std::vector<uint32_t> leaf_;
-  std::vector<SphereLeaf> sphere_leaves_;
   std::vector<TriangleLeaf> triangle_leaves_;
 };
 
