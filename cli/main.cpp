@@ -459,7 +459,8 @@ void write_stats_json(const std::string& path, const RenderArgs& args, const gli
       {"seconds", {{"load", t.load}, {"build", t.build}, {"render", t.render}, {"write", t.write}, {"total", t.total}}},
   };
   const std::string text = doc.dump(2) + "\n";
-  glint::write_file_atomically(path, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
+  glint::write_file_atomically(path, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()),
+                               glint::Flush::no);
 }
 
 // Renders one image: `scene` is the frame's scene, args.output_path its file;

@@ -648,24 +648,24 @@ void write_image(const Image& image, const fs::path& path, const WriteOptions& o
 
     switch (*format) {
       case ImageFormat::ppm:
-        write_file_atomically(path, encode_ppm(image, options));
+        write_file_atomically(path, encode_ppm(image, options), Flush::no);
         break;
       case ImageFormat::pfm:
-        write_file_atomically(path, encode_pfm(image));
+        write_file_atomically(path, encode_pfm(image), Flush::no);
         break;
       case ImageFormat::png:
-        write_file_atomically(path, encode_png(image, options));
+        write_file_atomically(path, encode_png(image, options), Flush::no);
         break;
       case ImageFormat::jpg:
-        write_file_atomically(path, encode_jpg(image, options));
+        write_file_atomically(path, encode_jpg(image, options), Flush::no);
         break;
       case ImageFormat::exr: {
         const MallocBytes exr = encode_exr(image);
-        write_file_atomically(path, {exr.data.get(), exr.size});
+        write_file_atomically(path, {exr.data.get(), exr.size}, Flush::no);
         break;
       }
       case ImageFormat::hdr:
-        write_file_atomically(path, encode_hdr(image));
+        write_file_atomically(path, encode_hdr(image), Flush::no);
         break;
     }
   });
@@ -695,7 +695,7 @@ void write_exr_channels(const std::vector<ExrChannel>& channels, const fs::path&
     const Image& first = *channels[0].image;
     if (!valid_size(first.width, first.height)) fail_write(path, "invalid image size");
     const MallocBytes exr = encode_exr_channels(channels, first.width, first.height);
-    write_file_atomically(path, {exr.data.get(), exr.size});
+    write_file_atomically(path, {exr.data.get(), exr.size}, Flush::no);
   });
 }
 

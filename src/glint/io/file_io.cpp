@@ -49,7 +49,7 @@ class TempFile {
 
 }  // namespace
 
-void write_file_atomically(const fs::path& target, std::span<const unsigned char> bytes) {
+void write_file_atomically(const fs::path& target, std::span<const unsigned char> bytes, Flush flush) {
   static std::atomic<unsigned long> counter{0};
   const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   // Appended piece by piece: `"." + std::string` trips GCC 12's bogus -Wrestrict at -O3.
@@ -87,7 +87,7 @@ void write_file_atomically(const fs::path& target, std::span<const unsigned char
   }
   // Flush before the rename: otherwise a crash could leave a renamed but empty file.
   // EINVAL only means this file system cannot sync, which is not an error here.
-  if (::fsync(temp.fd) != 0 && errno != EINVAL) fail_write(target, errno_message(errno));
+  if (flush == Flush::to_disk && ::fsync(temp.fd) != 0 && errno != EINVAL) fail_write(target, errno_message(errno));
   const int fd = temp.fd;
   temp.fd = -1;
   if (::close(fd) != 0) fail_write(target, errno_message(errno));

@@ -8,9 +8,20 @@
 
 namespace glint {
 
-// Writes `bytes` to a temporary file in the target's folder, flushes it and
-// renames it over `target`. Throws glint::Error("<target>: cannot write: ...").
-void write_file_atomically(const std::filesystem::path& target, std::span<const unsigned char> bytes);
+// Whether write_file_atomically waits until the bytes are on the disk before
+// the rename (fsync), so that not even a power cut can leave the target
+// empty: yes for files that cannot be made again by running glint again (a
+// scene saved by glint serve, a resume file); not for a render's outputs,
+// which the rename alone keeps whole or absent to every program -- on a busy
+// disk that wait took 2 to 30 ms, more than a small scene's whole render
+// (docs/performance.md, "SPD scenes").
+enum class Flush { to_disk, no };
+
+// Writes `bytes` to a temporary file in the target's folder, flushes it (as
+// `flush` says) and renames it over `target`. Throws glint::Error("<target>:
+// cannot write: ...").
+void write_file_atomically(const std::filesystem::path& target, std::span<const unsigned char> bytes,
+                           Flush flush = Flush::to_disk);
 
 // Throws glint::Error("<path>: cannot read: ...").
 std::vector<unsigned char> read_file(const std::filesystem::path& path);
