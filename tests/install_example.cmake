@@ -15,6 +15,16 @@ run(${WORK_DIR}/build/glint_example ${WORK_DIR}/example.png)
 if(NOT EXISTS ${WORK_DIR}/example.png)
   message(FATAL_ERROR "the example wrote no image")
 endif()
+# The installed program finds its plugins (lib/glint, relative to bin/):
+# the Embree one, when this build has it.
+file(GLOB_RECURSE embree_plugin ${WORK_DIR}/prefix/*/glint-embree.so)
+if(embree_plugin)
+  run(${WORK_DIR}/prefix/bin/glint render ${SOURCE_DIR}/scenes/figures/mirrors.json -o ${WORK_DIR}/embree.png
+      --width 32 --height 24 --accel embree --quiet)
+  if(NOT EXISTS ${WORK_DIR}/embree.png)
+    message(FATAL_ERROR "the installed glint wrote no image with --accel embree")
+  endif()
+endif()
 # Another compiler links the same installed library (no LTO bytecode alone).
 if(CLANGXX)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/docs/example -B ${WORK_DIR}/build-clang -G ${GENERATOR}
