@@ -25,6 +25,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     return 0;
   }
+  // The document load_scene builds in memory comes from the same reading.
+  try {
+    (void)glint::nff_loader_document(text, "fuzz.nff");
+  } catch (const glint::Error& e) {
+    std::fprintf(stderr, "fuzz_nff: read_nff took what nff_loader_document refused: %s\n", e.what());
+    std::abort();
+  }
   const glint::NffJsonText json = glint::nff_json_text(nff);
   try {
     glint::json::parse(json.text, "fuzz.nff");
