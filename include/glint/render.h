@@ -61,7 +61,8 @@ struct PrepareOptions {
   Accel accel = Accel::bvh;
   // An animated scene (its "animation") is rendered as it is at this frame,
   // as `glint render --frames N` renders it; a still scene has frame 0 only.
-  // An animated scene's acceleration structure is rebuilt on every update().
+  // As for a still scene, update() rebuilds the acceleration structure only
+  // when the objects or the animation change.
   int frame = 0;
 };
 

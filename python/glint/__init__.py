@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import json as _json
 import os as _os
-import tempfile as _tempfile
 import threading as _threading
 from typing import TYPE_CHECKING, Any, Callable, Dict, Iterator, Optional, Sequence
 
@@ -154,10 +153,8 @@ class _View:
         return _json.loads(self._scene._core.get(self._path))
 
     def update(self, **values: Any) -> None:
-        """Sets several fields at once, checked together (one edit)."""
-        d = self.to_dict()
-        d.update(values)
-        self._scene._set_json(self._path, _dumps(d, self._path))
+        """Sets several fields at once, checked together (one edit): all or none."""
+        self._scene._core.update_json(self._path, _dumps(values, self._path))
 
     def __eq__(self, other: object) -> bool:
         if isinstance(other, _View):
@@ -473,12 +470,19 @@ class Scene:
         vertices: (n, 3) float32 or float64; triangles: (m, 3) int32 or int64
         vertex indices (0-based); normals: optional (n, 3) per-vertex normals
         (else computed, angle-weighted, as for a mesh file); uvs: optional
-        (n, 2) per-vertex texture coordinates. Shapes, index range and
-        finite values are checked (ValueError / TypeError naming the
-        argument). The arrays are copied into the scene's document as an
-        inline mesh (docs/scene-format.md), so :meth:`to_dict` stays
-        self-contained and renders with the CLI identically. Zero-area
-        triangles are dropped with a warning, as in a mesh file.
+        (n, 2) per-vertex texture coordinates. Any strides; other integer or
+        float dtypes are accepted too (converted first). Shapes, dtypes,
+        index range and finite values (that fit a float32) are checked:
+        ValueError / TypeError naming the argument and row, e.g.
+        ``triangles[4]: vertex index 12 out of range (12 vertices)``.
+
+        Each array is read once, straight into the scene's own float32 /
+        uint32 arrays (the one copy: later edits of the scene and renders do
+        not copy it again, and changing your arrays afterwards does not change
+        the scene). :meth:`to_dict` writes the mesh out as an inline mesh
+        (docs/scene-format.md), so it stays one self-contained scene that the
+        CLI renders identically. Zero-area triangles are dropped with a
+        warning, as in a mesh file.
         """
         obj: Dict[str, Any] = {"type": "mesh"}
         if material is not None:
@@ -489,8 +493,7 @@ class Scene:
             obj["smooth"] = False
         if name is not None:
             obj["name"] = name
-        text = _glint.mesh_object_json(_dumps(obj, "objects"), vertices, triangles, normals, uvs)
-        self._append_json("objects", text)
+        self._core.add_mesh(_dumps(obj, "objects"), vertices, triangles, normals, uvs)
         return self.objects[-1]
 
     # -- rendering ---------------------------------------------------------
@@ -568,11 +571,8 @@ class Render:
         _glint.write_image(image, _os.fspath(path), float(exposure), tonemap)
 
     def _repr_png_(self) -> bytes:
-        with _tempfile.TemporaryDirectory() as d:
-            p = _os.path.join(d, "render.png")
-            self.save(p)
-            with open(p, "rb") as f:
-                return f.read()
+        """The image as PNG bytes (clamped, sRGB): how notebooks show a Render."""
+        return _glint.encode_image(self.image, "png")
 
     def __repr__(self) -> str:
         h, w = self.image.shape[:2]
@@ -580,16 +580,25 @@ class Render:
                 f"{self.stats['rays']} rays in {self.stats['render_seconds']:.3f} s>")
 
 
-def _overridden(scene: Scene, width, height, spp) -> "_glint.Scene":
-    """A private snapshot of the scene, with the call's overrides applied
-    (checked as edits are; the caller's scene is untouched)."""
+_MAX_SIDE = 1 << 20  # the loader's limit on render.width and render.height
+
+
+def _int_arg(value: Any, name: str, lo: int, hi: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+        raise TypeError(f"{name}: expected an int, got {type(value).__name__}")
+    if not lo <= value <= hi:
+        raise ValueError(f"{name}: must be from {lo} to {hi} (got {value})")
+    return int(value)
+
+
+def _snapshot(scene: Scene, spp) -> "_glint.Scene":
+    """A private snapshot of the scene (the caller's scene is untouched), with
+    ``spp`` set as the CLI's --spp sets it (adaptive sampling, if any, kept)."""
     core = scene._core.copy()
-    for key, value in (("width", width), ("height", height), ("samples_per_pixel", spp)):
-        if value is not None:
-            if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
-                raise TypeError(f"{'spp' if key == 'samples_per_pixel' else key}: expected an int, "
-                                f"got {type(value).__name__}")
-            core.set_json(f"render.{key}", str(int(value)))
+    if spp is not None:
+        if isinstance(spp, bool) or not isinstance(spp, (int, _np.integer)):
+            raise TypeError(f"spp: expected an int, got {type(spp).__name__}")
+        core.set_json("render.samples_per_pixel", str(int(spp)))
     return core
 
 
@@ -599,8 +608,11 @@ def render(scene: Scene, *, width: Optional[int] = None, height: Optional[int] =
            cancel: Optional[CancelToken] = None) -> Render:
     """Renders a scene and returns a :class:`Render`.
 
-    width, height, spp: override the scene's render settings for this render
-        only (the scene is not changed).
+    width, height: render at this size instead of the scene's (for this
+        render only; the scene is not changed), as ``glint render --width
+        --height`` does: the camera's aspect follows, and an NFF scene's view
+        keeps following its rows (docs/nff.md).
+    spp: samples per pixel for this render, as ``glint render --spp``.
     threads: worker threads, 0 for all cores; the image is bit-identical for
         any count.
     accel: "bvh" (glint's own) or "embree" (when :data:`embree_available`).
@@ -639,10 +651,14 @@ def render(scene: Scene, *, width: Optional[int] = None, height: Optional[int] =
         raise TypeError(f"cancel: expected a glint.CancelToken, got {type(cancel).__name__}")
     if progress is not None and not callable(progress):
         raise TypeError("progress: expected a callable taking the fraction done")
-    core = _overridden(scene, width, height, spp)
+    w = _int_arg(width, "width", 1, _MAX_SIDE) if width is not None else 0
+    h = _int_arg(height, "height", 1, _MAX_SIDE) if height is not None else 0
+    core = _snapshot(scene, spp)
+    if w or h:  # the size as --width / --height give it: the other side stays
+        w, h = w or core.width, h or core.height
     with scene._lock:
         renderer = scene._prepared(core, int(threads), accel, int(frame))
-        image, pass_arrays, stats, address = renderer.render(passes, int(threads), progress, cancel)
+        image, pass_arrays, stats, address = renderer.render(passes, int(threads), progress, cancel, w, h)
     return Render(image, dict(pass_arrays), stats, address)
 
 

@@ -65,11 +65,54 @@ def test_an_nff_scene_renders_bit_identical_to_the_cli(root, cli, tmp_path):
     path = root / "bench" / "spd" / "tetra.nff"
     if not path.exists():
         pytest.skip("no NFF scene in this tree")
-    # At the file's own resolution: the CLI's --height also re-derives an NFF's
-    # fov_y (docs/nff.md), which an override of the document's height does not.
-    ours = glint.render(glint.load(path)).image
-    theirs = cli_render(cli, path, tmp_path, sized=False)
+    ours = glint.render(glint.load(path), spp=1).image
+    theirs = cli_render(cli, path, tmp_path, "--spp", "1", sized=False)
     assert np.array_equal(bits(ours), bits(theirs)) and ours.max() > 0
+
+
+@pytest.mark.parametrize("size", [(64, 40), (40, 64), (33, 1)])
+def test_an_nff_view_follows_the_rendered_height_as_in_the_cli(root, cli, tmp_path, size):
+    """NFF's angle spans the centers of the first and last pixel rows
+    (docs/nff.md): render(width=, height=) derives fov_y for the height
+    rendered, exactly as the CLI's --width/--height (a one-row image takes the
+    angle edge to edge)."""
+    path = root / "bench" / "spd" / "tetra.nff"
+    if not path.exists():
+        pytest.skip("no NFF scene in this tree")
+    w, h = size
+    scene = glint.load(path)
+    ours = glint.render(scene, width=w, height=h, spp=1).image
+    theirs = cli_render(cli, path, tmp_path, "--width", str(w), "--height", str(h), "--spp", "1", sized=False)
+    assert ours.shape == (h, w, 3)
+    assert np.array_equal(bits(ours), bits(theirs)) and ours.max() > 0
+    # The file's fov_y kept fixed (its JSON document, as `glint convert`
+    # writes it) gives another image at another height: the test tells them apart.
+    converted = glint.loads(scene.to_json(), base_dir=path.parent)
+    assert h == 1 or not np.array_equal(bits(glint.render(converted, width=w, height=h, spp=1).image), bits(ours))
+    # Edits elsewhere keep the NFF view: it holds while the camera and the
+    # height are the file's.
+    name = next(iter(scene.materials))
+    shininess = scene.materials[name].shininess
+    scene.materials[name].shininess = 7
+    scene.lights.append({"type": "point", "position": [0, 0, 9], "diffuse": 0.1})
+    del scene.lights[-1]
+    scene.materials[name].shininess = shininess
+    assert np.array_equal(bits(glint.render(scene, width=w, height=h, spp=1).image), bits(theirs))
+
+
+def test_an_nff_scene_with_its_height_edited_is_its_json_document(root, cli, tmp_path):
+    """After an edit of the camera or the height the scene is its document, as
+    a converted file: to_dict() written out renders with the CLI alike, at any
+    --width (fov_y fixed)."""
+    path = root / "bench" / "spd" / "tetra.nff"
+    if not path.exists():
+        pytest.skip("no NFF scene in this tree")
+    scene = glint.load(path)
+    scene.render_settings.height = 40
+    written = tmp_path / "written.json"
+    written.write_text(json.dumps(scene.to_dict()))
+    theirs = cli_render(cli, written, tmp_path, "--width", "64", "--spp", "1", sized=False)
+    assert np.array_equal(bits(glint.render(scene, width=64, spp=1).image), bits(theirs))
 
 
 def test_to_dict_written_to_a_file_renders_identically_and_validates(root, cli, scenes_copy, tmp_path):
