@@ -78,7 +78,7 @@ class Scene {
   // Appends to an array ("lights", "objects"), creating it if missing.
   void append_json(std::string_view array_path, std::string_view json_value);
   // Sets the keys of `json_object` in the object at `path` (keeping the
-  // others), all in one checked edit.
+  // others; a missing last key becomes an object), all in one checked edit.
   void update_json(std::string_view path, std::string_view json_object);
 
   // Appends a mesh object made of `arrays`, which are moved in: the scene

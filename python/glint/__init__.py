@@ -24,7 +24,6 @@ camera or settings reuses the prepared geometry (``render.stats["builds"]``).
 See docs/python.md for a worked example.
 """
 
-from __future__ import annotations
 
 import json as _json
 import os as _os
@@ -44,6 +43,8 @@ __version__: str = _glint.__version__
 __all__ = [
     "Scene", "SceneError", "Render", "CancelToken", "load", "loads", "render", "explain",
     "read_image", "write_image", "embree_available", "PASSES", "__version__",
+    # the typed views a scene hands out (for annotations)
+    "Material", "Light", "Object", "Camera", "RenderSettings", "Materials", "Lights", "Objects",
 ]
 
 #: The passes :func:`render` can fill besides the image.
@@ -255,9 +256,11 @@ class Materials:
         return len(self._scene._core.material_names)
 
     def keys(self):
+        """The material names, in the document's order."""
         return list(self)
 
     def items(self):
+        """(name, Material) pairs, in the document's order."""
         return [(n, self[n]) for n in self]
 
     def __repr__(self) -> str:
@@ -358,9 +361,11 @@ class Scene:
     @classmethod
     def from_dict(cls, d: Dict[str, Any], base_dir: "str | os.PathLike[str] | None" = None,
                   name: str = "<dict>") -> "Scene":
-        """A scene from a dict shaped as the scene file (docs/scene-format.md).
+        """A scene from ``d``, a dict shaped as the scene file
+        (docs/scene-format.md; tuples and numpy arrays may stand for lists).
         Relative mesh and texture paths resolve against ``base_dir``
-        (default: the current directory)."""
+        (default: the current directory); ``name`` is what error messages
+        call it."""
         if not isinstance(d, dict):
             raise TypeError(f"Scene.from_dict: expected a dict, got {type(d).__name__}")
         return loads(_dumps(d, "scene"), base_dir=base_dir, name=name)
@@ -401,10 +406,12 @@ class Scene:
 
     @property
     def width(self) -> int:
+        """The image width the scene renders at (its render.width, or the default)."""
         return self._core.width
 
     @property
     def height(self) -> int:
+        """The image height the scene renders at (its render.height, or the default)."""
         return self._core.height
 
     # -- typed views -------------------------------------------------------
@@ -476,6 +483,13 @@ class Scene:
         ValueError / TypeError naming the argument and row, e.g.
         ``triangles[4]: vertex index 12 out of range (12 vertices)``.
 
+        material: a material name of the scene (else glint's default
+        material); transform: the object's transform, a dict as in the scene
+        file ({"scale": .., "rotate": .., "translate": ..}); smooth: False for
+        flat shading (face normals); name: the object's name (animation keys
+        name objects by it). These are checked as the loader checks an object
+        (SceneError naming ``objects[n]...``).
+
         Each array is read once, straight into the scene's own float32 /
         uint32 arrays (the one copy: later edits of the scene and renders do
         not copy it again, and changing your arrays afterwards does not change
@@ -516,16 +530,19 @@ class Scene:
 
 
 def load(path: "str | os.PathLike[str]") -> Scene:
-    """Loads a scene file (JSON, docs/scene-format.md). Relative mesh and
-    texture paths resolve against the file's folder. Raises SceneError with
-    the file, line and column of the problem, as the CLI reports it."""
+    """Loads the scene file at ``path``: any file glint renders, by its
+    extension: a JSON scene (docs/scene-format.md), an NFF file (docs/nff.md)
+    or a bare mesh file (.obj .ply .gltf .glb, framed as ``glint render``
+    frames it). Relative mesh and texture paths resolve against the file's
+    folder. Raises SceneError with the file, line and column of the problem,
+    as the CLI reports it."""
     return Scene(_glint.Scene.load(_os.fspath(path)))
 
 
 def loads(text: str, base_dir: "str | os.PathLike[str] | None" = None, name: str = "<string>") -> Scene:
-    """A scene from JSON text. Relative mesh and texture paths resolve
-    against ``base_dir`` (default: the current directory); ``name`` is what
-    error messages call the text."""
+    """A scene from ``text``, scene JSON (str or UTF-8 bytes). Relative mesh
+    and texture paths resolve against ``base_dir`` (default: the current
+    directory); ``name`` is what error messages call the text."""
     if isinstance(text, (bytes, bytearray)):
         text = text.decode("utf-8")
     if not isinstance(text, str):
@@ -560,11 +577,12 @@ class Render:
 
     def save(self, path: "str | os.PathLike[str]", exposure: float = 0.0, tonemap: str = "clamp",
              pass_name: Optional[str] = None) -> None:
-        """Writes the image (or ``pass_name``'s) as the CLI would: the format by
-        the extension (.png .jpg .ppm: 8-bit, sRGB, after ``exposure`` (EV)
-        and ``tonemap`` ("clamp", "reinhard", "aces"); .pfm .exr .hdr: the
-        exact linear values). Atomic: an existing file is replaced only by a
-        complete new one."""
+        """Writes the image (or the pass ``pass_name``) to ``path`` as the CLI
+        writes it, byte for byte: the format by the extension (.png .jpg .ppm:
+        8-bit, sRGB, after ``exposure`` (EV) and ``tonemap`` ("clamp",
+        "reinhard", "aces"); .pfm .exr .hdr: the exact linear values). A depth
+        pass is written in all three channels. Atomic: an existing file is
+        replaced only by a complete new one."""
         image = self.image if pass_name is None else self.passes[pass_name]
         if image.ndim == 2:
             image = _np.repeat(image[:, :, None], 3, axis=2)
@@ -662,31 +680,50 @@ def render(scene: Scene, *, width: Optional[int] = None, height: Optional[int] =
     return Render(image, dict(pass_arrays), stats, address)
 
 
-def explain(scene: Scene, x: int, y: int, *, frame: int = 0, text: bool = False) -> Any:
-    """The ray tree behind pixel (x, y) at one sample through its center, as
-    ``glint explain --json`` prints it, as Python objects (a dict whose
-    "color" is that pixel of a 1-spp render). ``text=True``: the CLI's text."""
+def explain(scene: Scene, x: int, y: int, *, width: Optional[int] = None, height: Optional[int] = None,
+            frame: int = 0, text: bool = False) -> Any:
+    """What is behind pixel (x, y): its whole ray tree at one sample through
+    the pixel's center, as ``glint explain --json`` prints it, as Python
+    objects: a dict with "pixel" [x, y], "color" [r, g, b] (that pixel of a
+    1-spp render) and "ray", the tree of rays with each term of the shading
+    formula. ``text=True`` gives the CLI's text instead.
+
+    width, height: the pixel of the view rendered at this size, as
+        ``glint explain --width --height`` (and :func:`render`'s width, height).
+    frame: of an animated scene, the frame (as ``--frame``).
+
+    A pixel outside the image raises SceneError.
+    """
     if not isinstance(scene, Scene):
         raise TypeError(f"explain: expected a glint.Scene, got {type(scene).__name__}")
     for n, v in (("x", x), ("y", y), ("frame", frame)):
         if isinstance(v, bool) or not isinstance(v, (int, _np.integer)):
             raise TypeError(f"{n}: expected an int, got {type(v).__name__}")
+    w = _int_arg(width, "width", 1, _MAX_SIDE) if width is not None else 0
+    h = _int_arg(height, "height", 1, _MAX_SIDE) if height is not None else 0
     core = scene._core.copy()
+    if w or h:
+        w, h = w or core.width, h or core.height
     with scene._lock:
         accel = scene._renderer_key[0] if scene._renderer_key else "bvh"
         renderer = scene._prepared(core, 0, accel, int(frame))
-        out = renderer.explain_text(int(x), int(y)) if text else renderer.explain_json(int(x), int(y))
-    return out if text else _json.loads(out)
+        if text:
+            return renderer.explain_text(int(x), int(y), w, h)
+        return _json.loads(renderer.explain_json(int(x), int(y), w, h))
 
 
 def read_image(path: "str | os.PathLike[str]") -> _np.ndarray:
-    """An image file any glint output format (.png .jpg .ppm .pfm .exr .hdr),
-    as a float32 (height, width, 3) array of linear values."""
+    """Reads the image file at ``path`` in any format glint writes (.png
+    .jpg .ppm .pfm .exr .hdr, by its extension) as a float32 (height, width,
+    3) array of linear values, row 0 at the top; 8-bit formats are
+    sRGB-decoded. Raises SceneError if it cannot be read."""
     return _glint.read_image(_os.fspath(path))
 
 
 def write_image(image: Any, path: "str | os.PathLike[str]", exposure: float = 0.0, tonemap: str = "clamp") -> None:
-    """Writes a float (height, width, 3) array of linear values as the CLI
-    writes images: by the extension (.png .jpg .ppm 8-bit sRGB after
-    ``exposure`` and ``tonemap``; .pfm .exr .hdr linear)."""
+    """Writes ``image``, a float (height, width, 3) array of linear values, to
+    ``path`` as the CLI writes images, the format by the extension: .png .jpg
+    .ppm are 8-bit sRGB after ``exposure`` (EV: values times 2**exposure) and
+    ``tonemap`` ("clamp", "reinhard" or "aces"); .pfm .exr .hdr hold the
+    exact values. Atomic: an existing file is replaced only by a complete one."""
     _glint.write_image(image, _os.fspath(path), float(exposure), tonemap)

@@ -333,8 +333,10 @@ PYBIND11_MODULE(_glint, m) {
           py::arg("scene"))
       .def("render", &render, py::arg("passes"), py::arg("threads"), py::arg("progress"), py::arg("cancel"),
            py::arg("width") = 0, py::arg("height") = 0)
-      .def("explain_json", &Renderer::explain_json, py::arg("x"), py::arg("y"))
-      .def("explain_text", &Renderer::explain_text, py::arg("x"), py::arg("y"));
+      .def("explain_json", &Renderer::explain_json, py::arg("x"), py::arg("y"), py::arg("width") = 0,
+           py::arg("height") = 0)
+      .def("explain_text", &Renderer::explain_text, py::arg("x"), py::arg("y"), py::arg("width") = 0,
+           py::arg("height") = 0);
 
   py::class_<CancelToken>(m, "CancelToken",
                           "Stops a render from another thread: pass it as glint.render(..., cancel=token)\n"

@@ -83,6 +83,18 @@ def test_a_material_or_light_edit_reuses_the_geometry(small):
     assert glint.render(small).stats["builds"] == 2
 
 
+def test_update_sets_several_keys_in_one_checked_edit(small):
+    small.objects[0].update(radius=0.6, material="floor")
+    assert (small.objects[0].radius, small.objects[0].material) == (0.6, "floor")
+    before = small.to_json()
+    with pytest.raises(glint.SceneError) as e:
+        small.objects[0].update(radius=0.5, center=(0, 1))  # the second is bad: neither is set
+    assert e.value.path == "objects[0].center" and small.to_json() == before
+    bare = glint.loads('{"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]}, "objects": []}')
+    bare.render_settings.update(width=12, height=8)  # no "render" section yet
+    assert bare.to_dict()["render"] == {"width": 12, "height": 8} and glint.render(bare).image.shape == (8, 12, 3)
+
+
 def test_render_overrides_leave_the_scene_alone(small):
     r = glint.render(small, width=12, height=8, spp=2)
     assert r.image.shape == (8, 12, 3)

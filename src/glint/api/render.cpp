@@ -215,13 +215,30 @@ RenderResult Renderer::render(const RenderOptions& options) const {
   return result;
 }
 
-std::string Renderer::explain_json(int x, int y) const {
-  const glint::Scene& scene = state_->internal();
+namespace {
+
+// The scene at another size for a render or an explanation, as the CLI's
+// --width / --height: the camera's aspect follows, an NFF view's fov_y too.
+const glint::Scene& at_size(const glint::Scene& scene, int width, int height, std::optional<glint::Scene>& sized) {
+  if (width <= 0 || height <= 0) return scene;
+  check_image_size(width, height, SourceLocation{"render options", 0, 0});
+  sized = scene;
+  sized->render.width = width;
+  sized->render.height = height;
+  return *sized;
+}
+
+}  // namespace
+
+std::string Renderer::explain_json(int x, int y, int width, int height) const {
+  std::optional<glint::Scene> sized;
+  const glint::Scene& scene = at_size(state_->internal(), width, height, sized);
   return explanation_json(scene, explain_pixel(scene, *state_->accel, x, y));
 }
 
-std::string Renderer::explain_text(int x, int y) const {
-  const glint::Scene& scene = state_->internal();
+std::string Renderer::explain_text(int x, int y, int width, int height) const {
+  std::optional<glint::Scene> sized;
+  const glint::Scene& scene = at_size(state_->internal(), width, height, sized);
   return explanation_text(scene, explain_pixel(scene, *state_->accel, x, y));
 }
 

@@ -499,7 +499,8 @@ void Scene::update_json(std::string_view path, std::string_view json_object) {
   Json values = parse_value(json_object, path);
   if (!values.is_object()) throw Error(SourceLocation{}, std::string(path), "expected an object of keys to set");
   state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) {
-    Json* at = find(d, parse_path(path), false, path, &m);
+    Json* at = find(d, parse_path(path), true, path, &m);  // a missing section ("render") is added
+    if (at && at->is_null()) *at = Json::object();
     if (!at || !at->is_object()) throw Error(SourceLocation{}, std::string(path), "no such object in the scene");
     for (auto& item : values.items()) {
       if (item.key() == kAttachedMeshKey) throw Error(SourceLocation{}, std::string(path), "no such key \"$arrays\"");
