@@ -229,6 +229,10 @@ def test_the_scene_keeps_its_own_copy_and_writes_it_out_whole(tmp_path):
     assert o["vertices"] == [[0.1, 0, 0], [1, 0.3, 0], [0, 0, 0.33333334]] and o["uvs"][0] == [0.7, 0]
     assert tri.objects[0].vertices == o["vertices"] and json.loads(tri.to_json(indent=1))["objects"][0] == o
     assert np.float32(0.33333334) == np.float32(1 / 3)
+    # A negative zero stays one (a sign can matter to a cross product).
+    tri.add_mesh(np.array([[-0.0, 0, 0], [1, 0, 0], [0, 0, 1]], np.float32), np.array([[0, 2, 1]]))
+    z = tri.to_dict()["objects"][1]["vertices"][0][0]
+    assert z == 0 and np.signbit(z) and np.signbit(tri.objects[1].vertices[0][0])
     # Written out and loaded back (the CLI's view of it): the same image.
     again = glint.loads(json.dumps(scene.to_dict()))
     assert np.array_equal(bits(glint.render(again).image), bits(image))

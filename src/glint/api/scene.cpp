@@ -4,6 +4,7 @@
 // memory (add_mesh) stay beside the document, named in it by id, and go to
 // the loader as they are: a large mesh is never turned into JSON text and
 // parsed back on each edit; only to_json() and get() write it out.
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <cmath>
@@ -81,7 +82,11 @@ bool is_attached(const Json& node) { return node.is_object() && node.contains(kA
 // reads back to the same float (0.1f is 0.1, not 0.10000000149011612), so the
 // document shows the values as they were most likely given, and loads back
 // to exactly the floats the scene renders with.
-char* write_float(char* at, char* end, float x) { return std::to_chars(at, end, x).ptr; }
+// -0 is written -0.0: JSON readers (Python's too) take "-0" for the integer 0.
+char* write_float(char* at, char* end, float x) {
+  if (x == 0 && std::signbit(x)) return std::copy_n("-0.0", 4, at);
+  return std::to_chars(at, end, x).ptr;
+}
 double float_value(float x) {
   char text[32];
   char* end = write_float(text, text + sizeof text, x);
@@ -102,7 +107,7 @@ Json float_rows(const std::vector<float>& values, size_t k) {
 }
 
 // The same rows as compact JSON text, written directly (a large mesh is not
-// built as millions of JSON values first): what float_rows(...).dump() gives.
+// built as millions of JSON values first): the values of float_rows(...).dump().
 template <class T>
 void append_rows(std::string& out, const std::vector<T>& values, size_t k) {
   char text[32];

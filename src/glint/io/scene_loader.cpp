@@ -17,13 +17,13 @@
 #include <sstream>
 
 #include "glint/geometry/polygon.h"
-#include "glint/scene.h"
 #include "glint/io/json.h"
 #include "glint/io/memory_limit.h"
 #include "glint/io/mesh_file.h"
 #include "glint/io/nff_file.h"
 #include "glint/io/mesh_scene.h"
 #include "glint/io/texture_file.h"
+#include "glint/scene.h"  // api::MeshArrays (attached meshes)
 
 namespace glint {
 
