@@ -1,6 +1,8 @@
 // glint render: a scene to an image, or an animation's frames
 // (docs/cli.md#render); under mpirun, distributed over the ranks
-// (docs/distributed.md). Progress and statistics go to stderr.
+// (docs/distributed.md). The options become a FrameJob and the library
+// renders the frames (render/frame_job.h: resume, partial images); this file
+// turns signals into its cancel flag and prints progress and statistics.
 #include <signal.h>
 #include <unistd.h>
 
@@ -14,7 +16,6 @@
 #include <optional>
 #include <span>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "glint/accel/accelerator.h"
@@ -22,6 +23,7 @@
 #include "glint/image/image.h"
 #include "glint/io/file_io.h"
 #include "glint/io/scene_loader.h"
+#include "glint/render/frame_job.h"
 #include "glint/render/frames.h"
 #include "glint/render/passes.h"
 #ifdef GLINT_HAVE_MPI
@@ -61,8 +63,8 @@ struct RenderArgs {
   std::optional<std::string> stats_json;  // --stats-json FILE
 };
 
-glint::AccelBackend backend_named(const std::string& name) {
-  return name == "embree" ? glint::AccelBackend::embree : glint::AccelBackend::bvh;
+AccelBackend backend_named(const std::string& name) {
+  return name == "embree" ? AccelBackend::embree : AccelBackend::bvh;
 }
 
 // Set by SIGINT/SIGTERM: the render stops, writes what it has and a resume
@@ -113,58 +115,8 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-
-// The EXR channel names of a pass: color-like passes R, G, B; the normal X, Y, Z;
-// depth one channel Z.
-void add_pass_channels(std::vector<glint::ExrChannel>& channels, glint::Pass pass, const glint::Image& image) {
-  const std::string layer(glint::pass_name(pass));
-  if (pass == glint::Pass::depth) {
-    channels.push_back({layer + ".Z", &image, 0});
-    return;
-  }
-  const char* names = pass == glint::Pass::normal ? "XYZ" : "RGB";
-  for (int c = 0; c < 3; ++c) channels.push_back({layer + "." + names[c], &image, c});
-}
-
-// The main image and its passes: each pass beside the output in its format,
-// or (layered) all of them as channels of the one EXR output.
-void write_outputs(const glint::Image& image, const glint::PassImages& passes, const std::string& output,
-                   bool layered, const glint::WriteOptions& light) {
-  using namespace glint;
-  if (layered) {
-    std::vector<ExrChannel> channels = {{"R", &image, 0}, {"G", &image, 1}, {"B", &image, 2}};
-    for (size_t i = 0; i < passes.passes.size(); ++i) add_pass_channels(channels, passes.passes[i], passes.images[i]);
-    write_exr_channels(channels, output);
-    return;
-  }
-  const bool eight_bit = is_8bit_format(*image_format_for_path(output));
-  for (size_t i = 0; i < passes.passes.size(); ++i) {
-    const Pass pass = passes.passes[i];
-    const std::string path = pass_file_name(output, pass);
-    if (!eight_bit) {
-      write_image(passes.images[i], path);
-    } else {
-      WriteOptions options = light;
-      options.data = pass == Pass::normal || pass == Pass::depth;
-      write_image(pass_image_for_8bit(pass, passes.images[i]), path, options);
-    }
-  }
-  write_image(image, output, light);
-}
-
-void check_output_path(const std::string& path) {
-  using namespace glint;
-  const std::filesystem::path output(path);
-  if (!image_format_for_path(output))
-    throw Error(path + ": unsupported output format (supported: " + std::string(supported_image_extensions()) + ")");
-  const std::filesystem::path out_dir = output.has_parent_path() ? output.parent_path() : ".";
-  if (!std::filesystem::is_directory(out_dir))
-    throw Error(path + ": output folder " + out_dir.string() + " does not exist");
-}
-
 // The command line's settings over the scene's.
-void apply_overrides(const RenderArgs& args, glint::RenderSettings& r) {
-  using namespace glint;
+void apply_overrides(const RenderArgs& args, RenderSettings& r) {
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
   if (args.spp) r.samples_per_pixel = *args.spp;
@@ -188,22 +140,8 @@ void apply_overrides(const RenderArgs& args, glint::RenderSettings& r) {
                 ") is below samples_per_pixel (" + std::to_string(r.samples_per_pixel) + ")");
 }
 
-// The passes asked for (--passes, --passes-layered), checked against the output.
-std::vector<glint::Pass> requested_passes(const RenderArgs& args) {
-  using namespace glint;
-  std::vector<Pass> pass_list;
-  if (args.passes) pass_list = parse_pass_list(*args.passes);
-  if (args.passes_layered) {
-    if (image_format_for_path(args.output_path) != ImageFormat::exr)
-      throw Error(args.output_path + ": --passes-layered writes one multi-layer EXR: the output must be .exr");
-    if (!args.passes) pass_list = parse_pass_list("all");
-  }
-  return pass_list;
-}
-
 // How 8-bit outputs encode the image and its color passes.
-glint::WriteOptions light_options(const RenderArgs& args) {
-  using namespace glint;
+WriteOptions light_options(const RenderArgs& args) {
   WriteOptions light;
   if (args.exposure) light.exposure = *args.exposure;
   if (args.tonemap)
@@ -213,6 +151,30 @@ glint::WriteOptions light_options(const RenderArgs& args) {
   return light;
 }
 
+// The files of a frame as the options ask (--passes, --passes-layered,
+// --exposure, --tonemap); the path is each frame's. Checked against the output.
+OutputFiles output_files(const RenderArgs& args) {
+  OutputFiles out;
+  out.path = args.output_path;
+  if (args.passes) out.passes = parse_pass_list(*args.passes);
+  out.layered = args.passes_layered;
+  if (args.passes_layered && !args.passes) out.passes = parse_pass_list("all");
+  out.light = light_options(args);
+  out.check();
+  return out;
+}
+
+// One frame's render as the options ask; stopped by SIGINT and SIGTERM.
+FrameJob frame_job(const RenderArgs& args) {
+  FrameJob job;
+  job.output = output_files(args);
+  job.resume = args.resume;
+  job.accel = AcceleratorOptions{args.threads.value_or(0), backend_named(args.accel)};
+  job.render.threads = args.threads.value_or(0);
+  job.render.cancel = &g_interrupted;
+  return job;
+}
+
 // How long each phase of one render took, in seconds.
 struct PhaseSeconds {
   double load = 0, build = 0, render = 0, write = 0, total = 0;
@@ -220,13 +182,13 @@ struct PhaseSeconds {
 
 // --stats-json: the ray counts the SPD tables use and the phase times, as one
 // JSON object (docs/nff.md).
-void write_stats_json(const std::string& path, const RenderArgs& args, const glint::RenderSettings& r,
-                      const glint::RenderStats& stats, const PhaseSeconds& t) {
+void write_stats_json(const std::string& path, const RenderArgs& args, const std::string& output,
+                      const RenderSettings& r, const RenderStats& stats, const PhaseSeconds& t) {
   using Json = nlohmann::ordered_json;
-  const glint::RayStats& rays = stats.rays;
+  const RayStats& rays = stats.rays;
   const Json doc = {
       {"scene", args.scene_path},
-      {"output", args.output_path},
+      {"output", output},
       {"width", r.width},
       {"height", r.height},
       {"samples_per_pixel", r.samples_per_pixel},
@@ -243,190 +205,119 @@ void write_stats_json(const std::string& path, const RenderArgs& args, const gli
       {"seconds", {{"load", t.load}, {"build", t.build}, {"render", t.render}, {"write", t.write}, {"total", t.total}}},
   };
   const std::string text = doc.dump(2) + "\n";
-  glint::write_file_atomically(path, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
+  write_file_atomically(path, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
 }
 
-// Renders one image: `scene` is the frame's scene, args.output_path its file;
-// the stats line's total counts from `start`.
-int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
-                 std::chrono::steady_clock::time_point start) {
-  using namespace glint;
-  const std::filesystem::path output(args.output_path);
-  check_output_path(args.output_path);
-  const std::vector<Pass> pass_list = requested_passes(args);
-  const WriteOptions light = light_options(args);
-  RenderSettings& r = scene.render;
-  apply_overrides(args, r);
-
-  // The resume key covers the scene file and the settings that shape pixels.
-  const std::filesystem::path resume_path = resume_path_for(output);
-  uint64_t key = resume_key(read_file(args.scene_path), r);
-  if (scene.animation.frames > 0) key ^= 0x9e3779b97f4a7c15ULL * static_cast<uint64_t>(frame + 1);  // one per frame
-  Image image;
-  TileProgress tiles;
-  PassImages passes;
-  if (args.resume) {
-    if (auto state = read_resume_file(resume_path)) {
-      if (state->key != key || state->image.width != r.width || state->image.height != r.height)
-        throw Error(resume_path.string() + ": made for a different scene or different settings; "
-                    "delete it to render from the start");
-      if (state->passes.passes != pass_list)
-        throw Error(resume_path.string() + ": made with other --passes; resume with the same passes, "
-                    "or delete it to render from the start");
-      image = std::move(state->image);
-      tiles = std::move(state->progress);
-      passes = std::move(state->passes);
-    } else if (!args.quiet) {
-      std::fprintf(stderr, "glint: no resume file %s: rendering from the start\n", resume_path.c_str());
-    }
-  }
-  if (tiles.done.empty()) {
-    image = Image(r.width, r.height);
-    tiles = TileProgress(r.width, r.height, kTileSize);
-    passes = PassImages(pass_list, r.width, r.height);
-  }
-
-  using Clock = std::chrono::steady_clock;
-  const auto build_start = Clock::now();
-  const auto accel = build_accelerator(scene, AcceleratorOptions{args.threads.value_or(0), backend_named(args.accel)});
-  const auto build_end = Clock::now();
-  RenderOptions options;
-  options.threads = args.threads.value_or(0);
-  options.cancel = &g_interrupted;
-  ProgressBar bar;
-  if (!args.quiet && isatty(STDERR_FILENO)) options.progress = [&bar](double f) { bar.update(f); };
-  RenderStats stats;
-  install_interrupt_handlers();
-  const bool complete = render_tiles(scene, *accel, image, tiles, options, &stats, &passes);
-  if (!complete) {
-    // Interrupted: keep the finished tiles (the rest is background) and what
-    // --resume needs to finish the job bit-identically.
-    write_resume_file(resume_path, ResumeState{key, tiles, image, passes});
-    Image partial = image;
-    fill_unfinished_tiles(partial, tiles, r.background);
-    PassImages partial_passes = passes;
-    for (size_t i = 0; i < passes.passes.size(); ++i)  // a missed pixel: background in ambient, 0 elsewhere
-      fill_unfinished_tiles(partial_passes.images[i], tiles,
-                            passes.passes[i] == Pass::ambient ? r.background : Color(0.0));
-    write_outputs(partial, partial_passes, args.output_path, args.passes_layered, light);
-    if (options.progress) std::fprintf(stderr, "\n");
-    throw Interrupted{"interrupted: " + std::to_string(tiles.count_done()) + " of " +
-                      std::to_string(tiles.done.size()) + " tiles in " + args.output_path +
-                      "; finish with the same command and --resume"};
-  }
-  const auto write_start = Clock::now();
-  write_outputs(image, passes, args.output_path, args.passes_layered, light);
-  const auto write_end = Clock::now();
-  std::error_code ignored;
-  std::filesystem::remove(resume_path, ignored);  // finished: any resume file is stale
-
-  auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
-  if (args.stats_json)
-    write_stats_json(*args.stats_json, args, r, stats,
-                     PhaseSeconds{seconds(start, build_start), seconds(build_start, build_end), stats.seconds,
-                                  seconds(write_start, write_end), seconds(start, Clock::now())});
-  if (!args.quiet) {
-    const double total = seconds(start, Clock::now());
-    const RayStats& rays = stats.rays;
-    // "load": from the start to the accelerator build (reading the scene and
-    // its meshes; for later animation frames, moving the scene to the frame).
-    std::fprintf(stderr,
-                 "glint: %s: %dx%d, %d spp, %d thread%s, %s: render %.3f s (total %.3f s: load %.3f, build %.3f, "
-                 "write %.3f); rays: %s camera, %s shadow, %s reflection, %s refraction; %s camera rays hit; "
-                 "%.2f Mrays/s\n",
-                 args.output_path.c_str(), r.width, r.height, r.samples_per_pixel, stats.threads,
-                 stats.threads == 1 ? "" : "s",
-                 args.accel.c_str(),
-                 stats.seconds, total, seconds(start, build_start), seconds(build_start, build_end),
-                 seconds(write_start, write_end), format_count(rays.camera).c_str(), format_count(rays.shadow).c_str(),
-                 format_count(rays.reflection).c_str(), format_count(rays.refraction).c_str(),
-                 format_count(rays.camera_hits).c_str(),
-                 stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
-    if (r.adaptive)
-      std::fprintf(stderr, "glint: adaptive: %zu of %zu pixels (%.1f%%) rendered again at %d spp\n",
-                   stats.refined_pixels, tiles.refine.size(),
-                   tiles.refine.empty() ? 0.0 : 100.0 * static_cast<double>(stats.refined_pixels) / tiles.refine.size(),
-                   r.adaptive->max_samples_per_pixel);
-  }
-  return 0;
+// The statistics line of a finished frame (and adaptive sampling's).
+void print_frame_stats(const RenderArgs& args, const std::string& output, const RenderSettings& r,
+                       const FrameReport& report, const PhaseSeconds& t) {
+  const RenderStats& stats = report.stats;
+  const RayStats& rays = stats.rays;
+  std::fprintf(stderr,
+               "glint: %s: %dx%d, %d spp, %d thread%s, %s: render %.3f s (total %.3f s: load %.3f, build %.3f, "
+               "write %.3f); rays: %s camera, %s shadow, %s reflection, %s refraction; %s camera rays hit; "
+               "%.2f Mrays/s\n",
+               output.c_str(), r.width, r.height, r.samples_per_pixel, stats.threads, stats.threads == 1 ? "" : "s",
+               args.accel.c_str(), t.render, t.total, t.load, t.build, t.write, format_count(rays.camera).c_str(),
+               format_count(rays.shadow).c_str(), format_count(rays.reflection).c_str(),
+               format_count(rays.refraction).c_str(), format_count(rays.camera_hits).c_str(),
+               stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
+  if (r.adaptive)
+    std::fprintf(stderr, "glint: adaptive: %zu of %zu pixels (%.1f%%) rendered again at %d spp\n",
+                 stats.refined_pixels, report.pixels,
+                 report.pixels == 0 ? 0.0 : 100.0 * static_cast<double>(stats.refined_pixels) / report.pixels,
+                 r.adaptive->max_samples_per_pixel);
 }
 
-// --- frames: animations, --frames, --skip-existing ------------------------
-// The frames to render and each one's output name; errors before any render.
-std::vector<std::pair<int, std::string>> plan_frames(const RenderArgs& args, const glint::Scene& scene) {
-  using namespace glint;
-  std::vector<int> frames;
-  if (args.frames) frames = parse_frame_range(*args.frames, frame_count(scene));
-  else
-    for (int f = 0; f < frame_count(scene); ++f) frames.push_back(f);
-  std::vector<std::pair<int, std::string>> plan;
-  for (int f : frames) plan.emplace_back(f, frame_output_path(args.output_path, f).value_or(args.output_path));
-  if (plan.size() > 1 && plan[0].second == args.output_path)
-    throw Error(args.output_path + ": " + std::to_string(plan.size()) +
-                " frames need a frame number in the output name, exactly one %d or %0Nd (e.g. out_%04d.png)");
-  return plan;
+std::string interrupted_message(const std::string& output, const FrameReport& report) {
+  return "interrupted: " + std::to_string(report.tiles_done) + " of " + std::to_string(report.tiles_total) +
+         " tiles in " + output + "; finish with the same command and --resume";
 }
 
-// A frame is done when its image exists and no interrupted render left a
-// resume file beside it (that image would be partial).
-bool frame_done(const std::string& output) {
-  std::error_code ec;
-  return std::filesystem::exists(output, ec) && !std::filesystem::exists(glint::resume_path_for(output), ec);
-}
-
-int run_render_local(const RenderArgs& args);
-#ifdef GLINT_HAVE_MPI
-int run_render_mpi(const RenderArgs& args);
-#endif
-
-int run_render(const RenderArgs& args) {
-  using namespace glint;
-#ifdef GLINT_HAVE_MPI
-  if (glint::mpi::launched([](const char* name) { return std::getenv(name); })) return run_render_mpi(args);
-#endif
-  return run_render_local(args);
-}
-
-int run_render_local(const RenderArgs& args) {
-  using namespace glint;
-  auto start = std::chrono::steady_clock::now();
-  // From the start: a signal while the scene loads stops the render before
-  // its first tile (and still leaves a resume file), rather than killing glint.
-  install_interrupt_handlers();
-  // Before the (possibly long) load: the output's format and folder and the
-  // passes do not depend on the frame number.
-  const std::string first_output = frame_output_path(args.output_path, 0).value_or(args.output_path);
-  check_output_path(first_output);
+// Before the (possibly long) load: the output's format and folder, the
+// passes and the --stats-json folder do not depend on the frame number.
+void check_before_load(const RenderArgs& args) {
+  check_output_path(frame_output_path(args.output_path, 0).value_or(args.output_path));
   if (args.stats_json) {
     const std::filesystem::path stats(*args.stats_json);
     const std::filesystem::path dir = stats.has_parent_path() ? stats.parent_path() : ".";
     if (!std::filesystem::is_directory(dir))
       throw Error(*args.stats_json + ": --stats-json folder " + dir.string() + " does not exist");
   }
-  requested_passes(args);
+  output_files(args);
+}
+
+// The scene, its warnings printed, and the digest of its inputs for resume
+// keys: the scene file's bytes and everything the scene loaded from others.
+Scene load_for_render(const RenderArgs& args, uint64_t& inputs_digest) {
   Scene scene = load_scene(args.scene_path);
   if (!args.quiet) {
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    const std::string first_output = frame_output_path(args.output_path, 0).value_or(args.output_path);
     if (!is_8bit_format(*image_format_for_path(first_output)) && (args.exposure || args.tonemap))
       std::fprintf(stderr, "warning: %s holds linear values: --exposure and --tonemap apply to 8-bit outputs "
                    "(.png .jpg .ppm) only and are ignored\n", args.output_path.c_str());
   }
-  const bool animated = scene.animation.frames > 0;
-  const std::vector<std::pair<int, std::string>> plan = plan_frames(args, scene);
+  inputs_digest = scene_inputs_digest(read_file(args.scene_path), scene);
+  return scene;
+}
+
+int run_render_local(const RenderArgs& args) {
+  using Clock = std::chrono::steady_clock;
+  auto start = Clock::now();  // of the frame, for its "total": the program's start for the first
+  // From the start: a signal while the scene loads stops the render before
+  // its first tile (and still leaves a resume file), rather than killing glint.
+  install_interrupt_handlers();
+  check_before_load(args);
+  uint64_t digest = 0;
+  Scene scene = load_for_render(args, digest);
+  const std::vector<FrameOutput> plan = plan_frames(scene, args.output_path, args.frames);
+  apply_overrides(args, scene.render);
   if (args.stats_json && plan.size() > 1)
     throw Error("--stats-json describes one image: render one frame at a time (--frames N) to get each one's");
-  for (const auto& [frame, output] : plan) {
-    if (args.skip_existing && frame_done(output)) {
-      if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", output.c_str());
-      continue;
+
+  FrameJob job = frame_job(args);
+  std::optional<ProgressBar> bar;
+  if (!args.quiet && isatty(STDERR_FILENO)) job.render.progress = [&bar](double f) { bar->update(f); };
+  FrameEvents events;
+  events.skipped = [&](const FrameOutput& out) {
+    if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", out.path.c_str());
+  };
+  events.starting = [&](const FrameOutput& out) {
+    bar.emplace();
+    if (args.resume && !args.quiet && !std::filesystem::exists(resume_path_for(out.path)))
+      std::fprintf(stderr, "glint: no resume file %s: rendering from the start\n",
+                   resume_path_for(out.path).c_str());
+  };
+  std::string interrupted;
+  events.finished = [&](const FrameOutput& out, const FrameReport& report) {
+    const double total = std::chrono::duration<double>(Clock::now() - start).count();
+    start = Clock::now();
+    if (!report.complete) {
+      if (job.render.progress) std::fprintf(stderr, "\n");
+      interrupted = interrupted_message(out.path, report);
+      return;
     }
-    RenderArgs frame_args = args;
-    frame_args.output_path = output;
-    // A still scene has one frame: hand it over rather than copy it (meshes can be large).
-    render_frame(frame_args, animated ? scene_at_frame(scene, frame) : std::move(scene), frame, start);
-    start = std::chrono::steady_clock::now();
-  }
+    // "load": the rest of the total (reading the scene and its meshes; for
+    // later animation frames, moving the scene to the frame).
+    const PhaseSeconds t{total - report.build_seconds - report.stats.seconds - report.write_seconds,
+                         report.build_seconds, report.stats.seconds, report.write_seconds, total};
+    if (args.stats_json) write_stats_json(*args.stats_json, args, out.path, scene.render, report.stats, t);
+    if (!args.quiet) print_frame_stats(args, out.path, scene.render, report, t);
+  };
+  if (!render_frames(scene, digest, plan, args.skip_existing, job, events)) throw Interrupted{interrupted};
   return 0;
+}
+
+#ifdef GLINT_HAVE_MPI
+int run_render_mpi(const RenderArgs& args);
+#endif
+
+int run_render(const RenderArgs& args) {
+#ifdef GLINT_HAVE_MPI
+  if (mpi::launched([](const char* name) { return std::getenv(name); })) return run_render_mpi(args);
+#endif
+  return run_render_local(args);
 }
 
 #ifdef GLINT_HAVE_MPI
@@ -435,30 +326,124 @@ int run_render_local(const RenderArgs& args) {
 // any work is handed out, so a bad scene ends every rank with no hang.
 // More frames than ranks: whole frames go to ranks (each writes its own);
 // otherwise each frame's tiles are spread over all ranks and rank 0 writes it.
-int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& session);
+int run_render_distributed(const RenderArgs& args, const mpi::Session& session);
 
 int run_render_mpi(const RenderArgs& args) {
-  const glint::mpi::Session session;
-  if (session.size == 1) {
-    // One rank: exactly the single-process render (interrupt, resume and all).
-    RenderArgs local = args;
-    return run_render_local(local);
-  }
+  const mpi::Session session;
+  if (session.size == 1) return run_render_local(args);  // exactly the single-process render (resume and all)
   return run_render_distributed(args, session);
 }
 
-int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& session) {
-  using namespace glint;
+// The frames to render, as rank 0 alone decides them (--skip-existing), so
+// ranks on file systems that disagree cannot deadlock over different lists.
+std::vector<FrameOutput> frames_to_do(const RenderArgs& args, const std::vector<FrameOutput>& plan,
+                                      const mpi::Session& session) {
+  std::vector<int> todo;
+  if (session.rank == 0)
+    for (size_t i = 0; i < plan.size(); ++i) {
+      if (args.skip_existing && frame_done(plan[i].path)) {
+        if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", plan[i].path.c_str());
+        continue;
+      }
+      todo.push_back(static_cast<int>(i));
+    }
+  mpi::broadcast(todo);
+  std::vector<FrameOutput> frames;
+  for (int i : todo) frames.push_back(plan[i]);
+  return frames;
+}
+
+// Whole frames to ranks: each rank renders its frames as a local render does.
+void render_frames_on_ranks(const RenderArgs& args, const Scene& scene, uint64_t digest,
+                            const std::vector<FrameOutput>& frames, double rank_timeout,
+                            const mpi::FaultInjection& faults) {
+  const FrameJob job = frame_job(args);
+  mpi::run_items(
+      static_cast<int>(frames.size()),
+      [&](int item) {
+        const auto start = std::chrono::steady_clock::now();
+        FrameEvents events;
+        events.finished = [&](const FrameOutput& out, const FrameReport& report) {
+          // A signal (mpirun ending the job): the frame kept a resume file.
+          if (!report.complete) throw Error(interrupted_message(out.path, report));
+          const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          const PhaseSeconds t{total - report.build_seconds - report.stats.seconds - report.write_seconds,
+                               report.build_seconds, report.stats.seconds, report.write_seconds, total};
+          if (!args.quiet) print_frame_stats(args, out.path, scene.render, report, t);
+        };
+        render_frames(scene, digest, {frames[item]}, false, job, events);
+      },
+      rank_timeout, [&](int item) { return std::to_string(frames[item].frame); }, faults);
+}
+
+void print_distributed_stats(const std::string& output, const RenderSettings& r, const mpi::DistributedStats& stats,
+                             int ranks, int threads, double total) {
+  std::string split;
+  for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k) split += (k ? "/" : "") + std::to_string(stats.tiles_by_rank[k]);
+  std::fprintf(stderr,
+               "glint: %s: %dx%d, %d spp, %d ranks x %d thread%s: render %.3f s (total %.3f s); tiles by rank %s; "
+               "%llu bytes sent (%llu of pixels); %.2f Mrays/s\n",
+               output.c_str(), r.width, r.height, r.samples_per_pixel, ranks, threads, threads == 1 ? "" : "s",
+               stats.seconds, total, split.c_str(), static_cast<unsigned long long>(stats.bytes_sent),
+               static_cast<unsigned long long>(stats.pixel_bytes),
+               stats.seconds > 0 ? stats.rays.total() / stats.seconds / 1e6 : 0.0);
+  std::string cpu;
+  for (size_t k = 0; k < stats.cpu_by_rank.size(); ++k) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%srank %zu %.3f s (MPI thread %.3f s)", k ? ", " : "", k, stats.cpu_by_rank[k],
+                  stats.main_cpu_by_rank[k]);
+    cpu += text;
+  }
+  std::fprintf(stderr, "glint: CPU in the render: %s\n", cpu.c_str());
+}
+
+// Each frame's tiles over all ranks; rank 0 writes the image. Passes,
+// adaptive sampling and resume need one process to hold the whole frame.
+// The statistics' "total" counts from `start`, the command's.
+int render_tiles_on_ranks(const RenderArgs& args, const Scene& scene, const std::vector<FrameOutput>& frames,
+                          const mpi::Session& session, double rank_timeout, const mpi::FaultInjection& faults,
+                          std::chrono::steady_clock::time_point start) {
+  if (args.passes || args.passes_layered || scene.render.adaptive) {
+    // Tiles of one image come from every rank as image pixels only.
+    if (session.rank == 0) print_error("--passes and adaptive sampling work when frames go to ranks (more frames "
+                                       "than ranks); for a frame split in tiles over ranks, render without them");
+    return 1;
+  }
+  if (args.resume) {
+    // Tiles of one image come from every rank: there is no one resume file.
+    if (session.rank == 0) print_error("--resume works when frames go to ranks (more frames than ranks); "
+                                       "for a frame split in tiles over ranks, render it again");
+    return 1;
+  }
+  const int threads = resolve_thread_count(args.threads.value_or(0));
+  for (const FrameOutput& out : frames) {
+    Scene posed;
+    const Scene& frame_scene = scene.animation.frames > 0 ? (posed = scene_at_frame(scene, out.frame)) : scene;
+    const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
+    mpi::DistributedStats stats;
+    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout, faults);
+    if (session.rank != 0) continue;
+    write_image(image, out.path, light_options(args));
+    if (!args.quiet)
+      print_distributed_stats(out.path, frame_scene.render, stats, session.size, threads,
+                              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return 0;
+}
+
+int run_render_distributed(const RenderArgs& args, const mpi::Session& session) {
   const auto start = std::chrono::steady_clock::now();
   std::optional<Scene> scene;
-  std::vector<std::pair<int, std::string>> plan;
+  uint64_t digest = 0;
+  std::vector<FrameOutput> plan;
   std::string error;
   try {
     if (args.stats_json) throw Error("--stats-json describes a single-process render: run it without mpirun");
     scene = load_scene(args.scene_path);
+    digest = scene_inputs_digest(read_file(args.scene_path), *scene);
+    plan = plan_frames(*scene, args.output_path, args.frames);
     apply_overrides(args, scene->render);
-    plan = plan_frames(args, *scene);
-    for (const auto& [frame, output] : plan) check_output_path(output);
+    for (const FrameOutput& out : plan) check_output_path(out.path);
   } catch (const std::exception& e) {
     error = e.what();
   }
@@ -473,80 +458,12 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
   }
   if (session.rank == 0 && !args.quiet)
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-
-  // Rank 0 alone decides which frames are missing, so ranks on file systems
-  // that disagree cannot deadlock over different lists.
-  std::vector<int> todo;
-  if (session.rank == 0)
-    for (size_t i = 0; i < plan.size(); ++i) {
-      if (args.skip_existing && frame_done(plan[i].second)) {
-        if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", plan[i].second.c_str());
-        continue;
-      }
-      todo.push_back(static_cast<int>(i));
-    }
-  mpi::broadcast(todo);
-
-  if (static_cast<int>(todo.size()) > session.size) {
-    mpi::run_items(
-        static_cast<int>(todo.size()),
-        [&](int item) {
-          const auto& [frame, output] = plan[todo[item]];
-          RenderArgs frame_args = args;
-          frame_args.output_path = output;
-          try {
-            render_frame(frame_args, scene_at_frame(*scene, frame), frame, std::chrono::steady_clock::now());
-          } catch (const Interrupted& e) {
-            throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
-          }
-        },
-        rank_timeout, [&](int item) { return std::to_string(plan[todo[item]].first); }, faults);
+  const std::vector<FrameOutput> frames = frames_to_do(args, plan, session);
+  if (static_cast<int>(frames.size()) > session.size) {
+    render_frames_on_ranks(args, *scene, digest, frames, rank_timeout, faults);
     return 0;
   }
-  if (args.passes || args.passes_layered || scene->render.adaptive) {
-    // Tiles of one image come from every rank as image pixels only.
-    if (session.rank == 0) print_error("--passes and adaptive sampling work when frames go to ranks (more frames "
-                                       "than ranks); for a frame split in tiles over ranks, render without them");
-    return 1;
-  }
-  if (args.resume) {
-    // Tiles of one image come from every rank: there is no one resume file.
-    if (session.rank == 0) print_error("--resume works when frames go to ranks (more frames than ranks); "
-                                       "for a frame split in tiles over ranks, render it again");
-    return 1;
-  }
-  const int threads = resolve_thread_count(args.threads.value_or(0));
-  for (int item : todo) {
-    const auto& [frame, output] = plan[item];
-    Scene moved;
-    const Scene& frame_scene = scene->animation.frames > 0 ? (moved = scene_at_frame(*scene, frame)) : *scene;
-    const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
-    mpi::DistributedStats stats;
-    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout, faults);
-    if (session.rank != 0) continue;
-    write_image(image, output, light_options(args));
-    if (args.quiet) continue;
-    const RenderSettings& r = frame_scene.render;
-    std::string split;
-    for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k) split += (k ? "/" : "") + std::to_string(stats.tiles_by_rank[k]);
-    std::fprintf(stderr,
-                 "glint: %s: %dx%d, %d spp, %d ranks x %d thread%s: render %.3f s (total %.3f s); tiles by rank %s; "
-                 "%llu bytes sent (%llu of pixels); %.2f Mrays/s\n",
-                 output.c_str(), r.width, r.height, r.samples_per_pixel, session.size, threads, threads == 1 ? "" : "s",
-                 stats.seconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-                 split.c_str(), static_cast<unsigned long long>(stats.bytes_sent),
-                 static_cast<unsigned long long>(stats.pixel_bytes),
-                 stats.seconds > 0 ? stats.rays.total() / stats.seconds / 1e6 : 0.0);
-    std::string cpu;
-    for (size_t k = 0; k < stats.cpu_by_rank.size(); ++k) {
-      char text[96];
-      std::snprintf(text, sizeof text, "%srank %zu %.3f s (MPI thread %.3f s)", k ? ", " : "", k, stats.cpu_by_rank[k],
-                    stats.main_cpu_by_rank[k]);
-      cpu += text;
-    }
-    std::fprintf(stderr, "glint: CPU in the render: %s\n", cpu.c_str());
-  }
-  return 0;
+  return render_tiles_on_ranks(args, *scene, frames, session, rank_timeout, faults, start);
 }
 #endif
 

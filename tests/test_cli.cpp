@@ -589,9 +589,9 @@ TEST_F(CliPasses, InterruptedRenderResumesWithItsPasses) {
   first.done = {0, 1};
   ASSERT_TRUE(glint::render_tiles(scene, *accel, image, first, {}, nullptr, &passes));
   tiles.done = {1, 0};
-  const std::vector<unsigned char> scene_bytes = glint::read_file(path("scene.json"));
+  const uint64_t digest = glint::scene_inputs_digest(glint::read_file(path("scene.json")), scene);
   glint::write_resume_file(path("out.pfm.glint-resume"),
-                           glint::ResumeState{glint::resume_key(scene_bytes, scene.render), tiles, image, passes});
+                           glint::ResumeState{glint::resume_key(digest, scene.render), tiles, image, passes});
   // Other passes than the resume file's: refused, the resume file stays.
   const RunResult wrong = run("render scene.json -o out.pfm --quiet --resume --passes diffuse");
   EXPECT_NE(wrong.exit_code, 0);
