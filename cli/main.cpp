@@ -11,6 +11,7 @@
 
 #include "glint/error.h"
 #include "glint/io/scene_loader.h"
+#include "glint/version.h"
 #include "options.h"
 
 namespace {
@@ -40,6 +41,9 @@ std::string unknown_command(CLI::App& app, int argc, char** argv) {
 int main(int argc, char** argv) {
   CLI::App app{"glint: a Whitted-style ray tracer for the Phong and Blinn-Phong reflection models"};
   app.require_subcommand(1);
+  // The library's version (include/glint/version.h), which is the command's:
+  // the command is linked with the library it was built with.
+  app.set_version_flag("--version", std::string("glint ") + glint::version(), "print the version and exit");
   const std::vector<glint::cli::Command> commands = {
       glint::cli::add_render_command(app),   glint::cli::add_convert_command(app),
       glint::cli::add_validate_command(app), glint::cli::add_info_command(app),
@@ -55,9 +59,7 @@ int main(int argc, char** argv) {
   }
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
+  } catch (const CLI::Success& e) {  // --help, --help-all, --version: printed, exit 0
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::string what = e.what();

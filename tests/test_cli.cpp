@@ -29,6 +29,7 @@
 #include "glint/render/passes.h"
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
+#include "glint/version.h"
 
 namespace {
 
@@ -413,6 +414,20 @@ TEST_F(CliStats, HelpExitsZero) {
                              "--accel", "--quiet"})
     EXPECT_NE(sub.out.find(option), std::string::npos) << option;
   EXPECT_EQ(listing(), before);
+}
+
+TEST_F(CliStats, VersionIsTheLibrarysVersion) {
+  const RunResult r = run("--version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out, std::string("glint ") + GLINT_VERSION_STRING + "\n");
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(std::string(glint::version()), GLINT_VERSION_STRING);
+  // MAJOR.MINOR.PATCH, as the project() of CMakeLists.txt gives it.
+  EXPECT_EQ(std::string(GLINT_VERSION_STRING), std::to_string(GLINT_VERSION_MAJOR) + "." +
+                                                   std::to_string(GLINT_VERSION_MINOR) + "." +
+                                                   std::to_string(GLINT_VERSION_PATCH));
+  const RunResult help = run("--help");
+  EXPECT_NE(help.out.find("--version"), std::string::npos) << help.out;
 }
 
 // --- errors -------------------------------------------------------------------------
