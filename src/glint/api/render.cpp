@@ -61,7 +61,7 @@ std::vector<unsigned char> encode_image(const Image& image, std::string_view for
     const auto p = pass_from_name(pass);
     if (!p) throw Error("unknown pass \"" + std::string(pass) + "\"");
     if (glint::is_8bit_format(*f)) {
-      // As the CLI writes a pass file (cli/main.cpp): data passes remapped, no curve.
+      // As the CLI writes a pass file (write_outputs, render/frame_job.cpp): data passes remapped, no curve.
       o.data = *p == Pass::normal || *p == Pass::depth;
       internal = pass_image_for_8bit(*p, internal);
     }
