@@ -144,8 +144,13 @@ py::tuple render(const Renderer& renderer, const std::vector<std::string>& passe
 
 std::string shape_text(const py::array& a) {
   std::string got = "(";
-  for (py::ssize_t i = 0; i < a.ndim(); ++i) got += (i ? ", " : "") + std::to_string(a.shape(i));
-  return got + (a.ndim() == 1 ? ",)" : ")");
+  // Appends only: GCC 12's LTO warns falsely (-Wstringop-overflow) on "..." + std::string here.
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) {
+    if (i) got += ", ";
+    got += std::to_string(a.shape(i));
+  }
+  got += a.ndim() == 1 ? ",)" : ")";
+  return got;
 }
 
 // A numpy array as it is (a sequence of numbers becomes one first).
