@@ -341,6 +341,9 @@ int dominant_axis(float x, float y, float z) {
 
 }  // namespace
 
+// glint:long-function: the hot 16-ray packet traversal, kept as one loop on
+// purpose: its state (stack, active masks, the lanes' t_max) stays in
+// registers across nodes and leaves; not split without a benchmark.
 bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   if (m.bvh.nodes.empty()) return true;
   // One shear frame and one set of direction signs for the whole packet.
