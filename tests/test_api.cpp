@@ -5,11 +5,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "glint/accel/accelerator.h"
+#include "glint/api/scene_state.h"
 #include "glint/glint.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/renderer.h"
@@ -314,6 +316,108 @@ TEST(Api, InlineMeshProblemsAreNamedByTheirPath) {
   EXPECT_EQ(error_of(v + ", " + t), "accepted");
 }
 
+// add_mesh: arrays held beside the document, read by the loader as they are,
+// written out as the inline mesh they stand for.
+TEST(Api, MeshArraysAreTheInlineMeshTheyStandFor) {
+  const std::string keys = std::string("\"vertices\": ") + kGridVertices + ", \"triangles\": " + kGridTriangles;
+  const Scene inline_mesh = Scene::from_json(grid_scene(R"("name": "grid", )" + keys));
+  glint::api::MeshArrays arrays;
+  for (const auto& p : nlohmann::json::parse(kGridVertices))
+    for (int c = 0; c < 3; ++c) arrays.positions.push_back(p[c].get<float>());
+  for (const auto& t : nlohmann::json::parse(kGridTriangles))
+    for (int c = 0; c < 3; ++c) arrays.triangles.push_back(t[c].get<uint32_t>());
+  Scene scene = Scene::from_json(grid_scene(keys));
+  scene.erase("objects[0]");
+  scene.add_mesh(arrays, R"({"name": "grid"})");
+  const auto expected = glint::api::render(inline_mesh).image.rgb;
+  EXPECT_EQ(glint::api::render(scene).image.rgb, expected);
+  // The same document (numbers equal as numbers: 0 or 0.0), laid out or compact.
+  using nlohmann::ordered_json;
+  EXPECT_EQ(ordered_json::parse(scene.to_json()), ordered_json::parse(inline_mesh.to_json()));
+  EXPECT_EQ(ordered_json::parse(scene.to_json(-1)), ordered_json::parse(inline_mesh.to_json(-1)));
+  EXPECT_EQ(ordered_json::parse(scene.get("objects[0]")), ordered_json::parse(inline_mesh.get("objects[0]")));
+  EXPECT_EQ(scene.get("objects[0].vertices[4]"), "[0.0,0.5,0.0]");
+  EXPECT_TRUE(scene.has("objects[0].triangles[7]"));
+  EXPECT_FALSE(scene.has("objects[0].$arrays"));
+  EXPECT_EQ(scene.to_json().find("$arrays"), std::string::npos);
+  // Loaded back from its JSON: the same scene.
+  EXPECT_EQ(glint::api::render(Scene::from_json(scene.to_json())).image.rgb, expected);
+  // Editing other keys keeps the arrays held and the geometry.
+  Renderer renderer(scene);
+  scene.set_json("objects[0].smooth", "false");
+  scene.set_json("objects[0].smooth", "true");
+  scene.update_json("objects[0]", R"({"name": "g2"})");
+  renderer.update(scene);
+  EXPECT_EQ(renderer.render().image.rgb, expected);
+  EXPECT_EQ(scene.get("objects[0].name"), "\"g2\"");
+  // Editing the arrays turns the object into plain JSON.
+  scene.set_json("objects[0].vertices[4]", "[0, 0.75, 0]");
+  EXPECT_EQ(scene.get("objects[0].vertices[4]"), "[0,0.75,0]");
+  EXPECT_NE(glint::api::render(scene).image.rgb, expected);
+  // Checks, named by the arrays' rows; a refused mesh changes nothing.
+  auto error_of = [&](const glint::api::MeshArrays& a, const char* object = "{}") -> std::string {
+    const std::string before = scene.to_json();
+    try {
+      scene.add_mesh(a, object);
+    } catch (const glint::Error& e) {
+      EXPECT_EQ(scene.to_json(), before);
+      return e.message();
+    }
+    return "accepted";
+  };
+  glint::api::MeshArrays bad = arrays;
+  bad.triangles[5] = 9;
+  EXPECT_EQ(error_of(bad), "triangles[1]: vertex index 9 out of range (9 vertices)");
+  bad = arrays;
+  bad.positions[13] = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(error_of(bad), "vertices[4]: not a finite number");
+  bad = arrays;
+  bad.normals = {0, 1, 0};
+  EXPECT_EQ(error_of(bad), "normals: expected one per vertex (9), got 1");
+  bad = arrays;
+  bad.triangles.clear();
+  EXPECT_EQ(error_of(bad), "triangles: no triangles");
+  EXPECT_EQ(error_of(arrays, R"({"material": "gold"})"), "objects[1].material: unknown material \"gold\" (the scene defines no materials)");
+  EXPECT_EQ(error_of(arrays, R"({"type": "sphere"})"), "type: add_mesh makes a mesh (got \"sphere\")");
+  EXPECT_EQ(error_of(arrays, R"({"file": "x.obj"})"), "file: given by the arrays; not a key here");
+  bad = arrays;
+  bad.positions = {0, 0, 0, 1, 0, 0, 2, 0, 0};
+  bad.triangles = {0, 1, 2};
+  EXPECT_EQ(error_of(bad), "objects[1]: no triangles (the only one is degenerate)");
+  EXPECT_EQ(error_of(arrays), "accepted");
+  // A scene file cannot name arrays in memory.
+  EXPECT_THROW((void)Scene::from_json(grid_scene(R"("$arrays": 1)")), glint::Error);
+}
+
+// An NFF file's view follows the rendered height (docs/nff.md) while its
+// camera and height are the file's, edits elsewhere notwithstanding.
+TEST(Api, AnNffViewHoldsWhileItsCameraAndHeightAreTheFiles) {
+  const fs::path path = fs::path(GLINT_SOURCE_DIR) / "bench" / "spd" / "tetra.nff";
+  Scene scene = Scene::load(path);
+  EXPECT_TRUE(scene.state()->scene->camera.row_center_angle.has_value());
+  glint::api::RenderOptions options;
+  options.width = 40;
+  options.height = 24;
+  options.samples_per_pixel = 1;
+  glint::Scene internal = glint::load_scene(path);
+  internal.render.width = 40;
+  internal.render.height = 24;
+  internal.render.samples_per_pixel = 1;
+  const auto expected = glint::render_image(internal, *glint::build_accelerator(internal)).rgb;
+  EXPECT_EQ(glint::api::render(scene, options).image.rgb, expected);
+  const std::string shininess = scene.get("materials.f1.shininess");
+  scene.set("materials.f1.shininess", 3.0);
+  EXPECT_TRUE(scene.state()->scene->camera.row_center_angle.has_value());
+  scene.set_json("materials.f1.shininess", shininess);
+  EXPECT_EQ(glint::api::render(scene, options).image.rgb, expected);
+  scene.set("render.height", 24);
+  EXPECT_FALSE(scene.state()->scene->camera.row_center_angle.has_value());
+  scene.set("render.height", 512);
+  EXPECT_TRUE(scene.state()->scene->camera.row_center_angle.has_value());
+  scene.set("camera.fov_y", 40.0);
+  EXPECT_FALSE(scene.state()->scene->camera.row_center_angle.has_value());
+}
+
 TEST(Api, AnAnimatedSceneRendersTheFrameAsked) {
   const fs::path path = fs::path(GLINT_SOURCE_DIR) / "scenes" / "animation" / "rolling.json";
   Scene scene = Scene::load(path);
@@ -330,12 +434,21 @@ TEST(Api, AnAnimatedSceneRendersTheFrameAsked) {
   glint::api::PrepareOptions outside;
   outside.frame = 100000;
   EXPECT_THROW(Renderer(scene, outside), glint::Error);
-  // A material edit reaches the posed frame.
-  Renderer renderer(scene);
+  // A material edit reaches the posed frame, over the same accelerator.
+  glint::api::PrepareOptions at5;
+  at5.frame = 5;
+  Renderer renderer(scene, at5);
   const auto before = renderer.render().image.rgb;
   scene.set_json("render.background", "[1, 0, 0]");
+  scene.set_json("materials.red.diffuse", "[0.1, 0.8, 0.1]");
   renderer.update(scene);
-  EXPECT_NE(renderer.render().image.rgb, before);
+  const auto after = renderer.render();
+  EXPECT_NE(after.image.rgb, before);
+  EXPECT_EQ(after.stats.builds, 1);
+  EXPECT_EQ(after.image.rgb, Renderer(scene, at5).render().image.rgb);
+  scene.set_json("objects[1].radius", "0.9");  // geometry: built again
+  renderer.update(scene);
+  EXPECT_EQ(renderer.render().stats.builds, 2);
 }
 
 // The preview of `glint serve`: another size or sample count over the same

@@ -29,6 +29,7 @@
 #include "glint/render/passes.h"
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
+#include "glint/version.h"
 
 namespace {
 
@@ -415,6 +416,20 @@ TEST_F(CliStats, HelpExitsZero) {
   EXPECT_EQ(listing(), before);
 }
 
+TEST_F(CliStats, VersionIsTheLibrarysVersion) {
+  const RunResult r = run("--version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out, std::string("glint ") + GLINT_VERSION_STRING + "\n");
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(std::string(glint::version()), GLINT_VERSION_STRING);
+  // MAJOR.MINOR.PATCH, as the project() of CMakeLists.txt gives it.
+  EXPECT_EQ(std::string(GLINT_VERSION_STRING), std::to_string(GLINT_VERSION_MAJOR) + "." +
+                                                   std::to_string(GLINT_VERSION_MINOR) + "." +
+                                                   std::to_string(GLINT_VERSION_PATCH));
+  const RunResult help = run("--help");
+  EXPECT_NE(help.out.find("--version"), std::string::npos) << help.out;
+}
+
 // --- errors -------------------------------------------------------------------------
 
 TEST_F(CliErrors, MalformedSceneSyntaxNamesFileLineColumn) {
@@ -589,9 +604,9 @@ TEST_F(CliPasses, InterruptedRenderResumesWithItsPasses) {
   first.done = {0, 1};
   ASSERT_TRUE(glint::render_tiles(scene, *accel, image, first, {}, nullptr, &passes));
   tiles.done = {1, 0};
-  const std::vector<unsigned char> scene_bytes = glint::read_file(path("scene.json"));
+  const uint64_t digest = glint::scene_inputs_digest(glint::read_file(path("scene.json")), scene);
   glint::write_resume_file(path("out.pfm.glint-resume"),
-                           glint::ResumeState{glint::resume_key(scene_bytes, scene.render), tiles, image, passes});
+                           glint::ResumeState{glint::resume_key(digest, scene.render), tiles, image, passes});
   // Other passes than the resume file's: refused, the resume file stays.
   const RunResult wrong = run("render scene.json -o out.pfm --quiet --resume --passes diffuse");
   EXPECT_NE(wrong.exit_code, 0);

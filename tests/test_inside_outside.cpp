@@ -44,7 +44,7 @@ Traced trace(const Scene& scene, const Ray& ray) {
   const Integrator integrator(scene, *accel);
   TraceContext ctx{Rng(1), {}};
   Traced t;
-  integrator.cast_ray(ray, 1, ctx, &t.trace);
+  integrator.trace_ray(ray, 1, ctx, t.trace);
   t.stats = ctx.stats;
   return t;
 }

@@ -10,11 +10,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <span>
+#include <string>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <thread>
 #include <vector>
 
@@ -22,6 +26,7 @@
 #include "glint/io/scene_loader.h"
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
+#include "glint/render/tile_size.h"
 
 extern char** environ;
 
@@ -96,16 +101,59 @@ TEST(Resume, FileRoundTripAndCorruptFiles) {
   fs::remove_all(dir);
 }
 
-TEST(Resume, KeyChangesWithSceneAndSettings) {
+std::span<const unsigned char> bytes_of(const std::string& text) {
+  return std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size());
+}
+
+TEST(Resume, KeyChangesWithSceneSettingsAndFrame) {
+  const Scene scene;
   const std::string a = "{\"x\": 1}", b = "{\"x\": 2}";
+  const uint64_t digest = scene_inputs_digest(bytes_of(a), scene);
+  EXPECT_EQ(digest, scene_inputs_digest(bytes_of(a), scene));
+  EXPECT_NE(digest, scene_inputs_digest(bytes_of(b), scene));
   RenderSettings s;
-  const auto bytes = [](const std::string& t) { return std::span(reinterpret_cast<const unsigned char*>(t.data()), t.size()); };
-  const uint64_t k = resume_key(bytes(a), s);
-  EXPECT_NE(k, resume_key(bytes(b), s));
+  const uint64_t k = resume_key(digest, s);
+  EXPECT_EQ(k, resume_key(digest, s, 0));
+  EXPECT_NE(k, resume_key(digest, s, 1));
   RenderSettings more = s;
   more.samples_per_pixel = 4;
-  EXPECT_NE(k, resume_key(bytes(a), more));
-  EXPECT_EQ(k, resume_key(bytes(a), s));
+  EXPECT_NE(k, resume_key(digest, more));
+  RenderSettings filtered = s;
+  filtered.pixel_filter = {FilterType::gaussian, kGaussianRadius};
+  EXPECT_NE(k, resume_key(digest, filtered));
+  RenderSettings adaptive = s;
+  adaptive.adaptive = AdaptiveSampling{};
+  EXPECT_NE(k, resume_key(digest, adaptive));
+}
+
+// What the scene loaded from its other files is in the digest: a mesh's
+// vertices, a texture's texels, a material (an .mtl's) all change it.
+TEST(Resume, DigestCoversWhatTheSceneLoadedFromItsFiles) {
+  Scene scene;
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.indices = {0, 1, 2};
+  scene.meshes.push_back(mesh);
+  TextureImage image;
+  image.width = image.height = 1;
+  image.texels = {{0.5f, 0.5f, 0.5f}};
+  scene.texture_images.push_back(image);
+  const std::string doc = "{}";
+  const uint64_t digest = scene_inputs_digest(bytes_of(doc), scene);
+
+  Scene moved = scene;
+  moved.meshes[0].positions[2].y = std::nextafter(1.0f, 2.0f);  // one vertex, one ulp
+  EXPECT_NE(scene_inputs_digest(bytes_of(doc), moved), digest);
+  Scene repainted = scene;
+  repainted.texture_images[0].texels[0].z = 0.25f;
+  EXPECT_NE(scene_inputs_digest(bytes_of(doc), repainted), digest);
+  Scene shinier = scene;
+  shinier.materials[0].shininess = 33;
+  EXPECT_NE(scene_inputs_digest(bytes_of(doc), shinier), digest);
+  Scene rescaled = scene;
+  rescaled.textures.push_back(Texture{});
+  EXPECT_NE(scene_inputs_digest(bytes_of(doc), rescaled), digest);
+  EXPECT_EQ(scene_inputs_digest(bytes_of(doc), Scene(scene)), digest);
 }
 
 int run(const std::string& command) {
@@ -193,6 +241,73 @@ TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
   EXPECT_EQ(read_file(dir / "out.diffuse.pfm"), read_file(dir / "ref.diffuse.pfm"));
   EXPECT_EQ(read_file(dir / "out.depth.pfm"), read_file(dir / "ref.depth.pfm"));
   EXPECT_FALSE(fs::exists(out + ".glint-resume"));
+  fs::remove_all(dir);
+}
+
+// A resume file for `output` with the even tiles of `scene` done, as an
+// interrupted render leaves it.
+void write_half_done(const Scene& scene, uint64_t key, const fs::path& output) {
+  const int w = scene.render.width, h = scene.render.height;
+  const auto accel = build_accelerator(scene);
+  Image image(w, h);
+  TileProgress first(w, h, kTileSize), tiles(w, h, kTileSize);
+  for (size_t t = 0; t < first.done.size(); ++t) first.done[t] = t % 2;  // odd tiles "done": render the even ones
+  ASSERT_TRUE(render_tiles(scene, *accel, image, first));
+  for (size_t t = 0; t < tiles.done.size(); ++t) tiles.done[t] = t % 2 == 0;
+  write_resume_file(resume_path_for(output), ResumeState{key, tiles, image, {}});
+}
+
+// The resume key covers the mesh files a scene names, not only the scene
+// file: an edited mesh refuses the resume (rather than finishing a mixed
+// image), an unchanged one resumes to the bytes of an uninterrupted render.
+TEST(ResumeCli, EditedMeshFileRefusesTheResume) {
+  const fs::path dir = fs::temp_directory_path() / ("glint-resume-mesh-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string source = std::string(GLINT_SOURCE_DIR) + "/scenes/meshes/";
+  fs::copy_file(source + "bunny.json", dir / "bunny.json");
+  fs::copy_file(source + "bunny.obj", dir / "bunny.obj");
+  const std::string glint = GLINT_CLI_PATH, scene_path = (dir / "bunny.json").string();
+  const std::string out = (dir / "out.pfm").string(), ref = (dir / "ref.pfm").string();
+  const std::string options = " --width 96 --height 48 --spp 1 --threads 2 --quiet";
+  ASSERT_EQ(run(glint + " render " + scene_path + " -o " + ref + options), 0);
+
+  // The key the command computes: the scene file's bytes, what it loaded, the settings.
+  auto key_now = [&](Scene& scene) {
+    scene = load_scene(scene_path);
+    scene.render.width = 96;
+    scene.render.height = 48;
+    scene.render.samples_per_pixel = 1;
+    return resume_key(scene_inputs_digest(read_file(scene_path), scene), scene.render);
+  };
+  Scene scene;
+  const uint64_t key = key_now(scene);
+  write_half_done(scene, key, out);
+  ASSERT_EQ(run(glint + " render " + scene_path + " -o " + out + options + " --resume"), 0);
+  EXPECT_EQ(read_file(out), read_file(ref));
+  EXPECT_FALSE(fs::exists(out + ".glint-resume"));
+
+  // The same half-done file, then one vertex of the mesh moves.
+  write_half_done(scene, key, out);
+  std::string obj;
+  {
+    std::ifstream in(dir / "bunny.obj");
+    obj.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t vertex = obj.find("\nv ");
+  ASSERT_NE(vertex, std::string::npos);
+  obj.insert(vertex + 3, "1");  // "v 1.30 ..." -> "v 11.30 ...": one vertex moves
+  std::ofstream(dir / "bunny.obj") << obj;
+  Scene edited;
+  EXPECT_NE(key_now(edited), key);
+  const std::string err = (dir / "err.txt").string();
+  EXPECT_EQ(run(glint + " render " + scene_path + " -o " + out + options + " --resume 2> " + err), 1);
+  std::ifstream in(err);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "error: " + out + ".glint-resume: made for a different scene, different scene files (meshes, "
+                    "textures) or different settings; delete it to render from the start");
+  EXPECT_TRUE(fs::exists(out + ".glint-resume"));
   fs::remove_all(dir);
 }
 

@@ -61,7 +61,8 @@ struct PrepareOptions {
   Accel accel = Accel::bvh;
   // An animated scene (its "animation") is rendered as it is at this frame,
   // as `glint render --frames N` renders it; a still scene has frame 0 only.
-  // An animated scene's acceleration structure is rebuilt on every update().
+  // As for a still scene, update() rebuilds the acceleration structure only
+  // when the objects or the animation change.
   int frame = 0;
 };
 
@@ -120,9 +121,11 @@ class Renderer {
   RenderResult render(const RenderOptions& options = {}) const;
 
   // The ray tree behind pixel (x, y) at one sample through its center, as
-  // `glint explain` prints it: JSON (docs/scene-format.md) or text.
-  std::string explain_json(int x, int y) const;
-  std::string explain_text(int x, int y) const;
+  // `glint explain` prints it: JSON (docs/scene-format.md) or text. With
+  // width and height > 0, pixel (x, y) of the view rendered at that size, as
+  // `glint explain --width --height` (and RenderOptions::width, height).
+  std::string explain_json(int x, int y, int width = 0, int height = 0) const;
+  std::string explain_text(int x, int y, int width = 0, int height = 0) const;
 
  private:
   struct State;

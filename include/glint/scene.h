@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -25,6 +26,15 @@
 #include "glint/error.h"
 
 namespace glint::api {
+
+// A triangle mesh as arrays in memory (what Python's glint.Scene.add_mesh
+// hands over), flat, one row after another, in the types glint renders with.
+struct MeshArrays {
+  std::vector<float> positions;     // x, y, z per vertex
+  std::vector<uint32_t> triangles;  // i, j, k per triangle: 0-based vertex indices
+  std::vector<float> normals;       // empty, or x, y, z per vertex (zero: computed)
+  std::vector<float> uvs;           // empty, or u, v per vertex
+};
 
 class Scene {
  public:
@@ -67,6 +77,22 @@ class Scene {
   void erase(std::string_view path);
   // Appends to an array ("lights", "objects"), creating it if missing.
   void append_json(std::string_view array_path, std::string_view json_value);
+  // Sets the keys of `json_object` in the object at `path` (keeping the
+  // others; a missing last key becomes an object), all in one checked edit.
+  void update_json(std::string_view path, std::string_view json_object);
+
+  // Appends a mesh object made of `arrays`, which are moved in: the scene
+  // keeps them as they are (no copy, no JSON) and every check of the scene
+  // builds the renderer's mesh from them by the rules of a mesh file. In the
+  // document the object is an inline mesh (docs/scene-format.md): to_json()
+  // and get() write the arrays out as "vertices", "triangles", "normals" and
+  // "uvs". `object_json` holds the object's other keys ("material",
+  // "transform", "smooth", "name"). Sizes, index ranges and finite values
+  // are checked first: glint::Error naming "vertices[i]", "triangles[i]",
+  // "normals[i]" or "uvs[i]"; the loader's problems name "objects[n]...".
+  // An edit of the arrays themselves ("objects[n].vertices[0]") turns the
+  // object into plain JSON first.
+  void add_mesh(MeshArrays arrays, std::string_view object_json = "{}");
 
   // The loader's warnings (missing .mtl, dropped degenerate triangles...).
   std::vector<std::string> warnings() const;

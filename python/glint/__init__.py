@@ -24,11 +24,9 @@ camera or settings reuses the prepared geometry (``render.stats["builds"]``).
 See docs/python.md for a worked example.
 """
 
-from __future__ import annotations
 
 import json as _json
 import os as _os
-import tempfile as _tempfile
 import threading as _threading
 from typing import TYPE_CHECKING, Any, Callable, Dict, Iterator, Optional, Sequence
 
@@ -45,6 +43,8 @@ __version__: str = _glint.__version__
 __all__ = [
     "Scene", "SceneError", "Render", "CancelToken", "load", "loads", "render", "explain",
     "read_image", "write_image", "embree_available", "PASSES", "__version__",
+    # the typed views a scene hands out (for annotations)
+    "Material", "Light", "Object", "Camera", "RenderSettings", "Materials", "Lights", "Objects",
 ]
 
 #: The passes :func:`render` can fill besides the image.
@@ -154,10 +154,8 @@ class _View:
         return _json.loads(self._scene._core.get(self._path))
 
     def update(self, **values: Any) -> None:
-        """Sets several fields at once, checked together (one edit)."""
-        d = self.to_dict()
-        d.update(values)
-        self._scene._set_json(self._path, _dumps(d, self._path))
+        """Sets several fields at once, checked together (one edit): all or none."""
+        self._scene._core.update_json(self._path, _dumps(values, self._path))
 
     def __eq__(self, other: object) -> bool:
         if isinstance(other, _View):
@@ -258,9 +256,11 @@ class Materials:
         return len(self._scene._core.material_names)
 
     def keys(self):
+        """The material names, in the document's order."""
         return list(self)
 
     def items(self):
+        """(name, Material) pairs, in the document's order."""
         return [(n, self[n]) for n in self]
 
     def __repr__(self) -> str:
@@ -361,9 +361,11 @@ class Scene:
     @classmethod
     def from_dict(cls, d: Dict[str, Any], base_dir: "str | os.PathLike[str] | None" = None,
                   name: str = "<dict>") -> "Scene":
-        """A scene from a dict shaped as the scene file (docs/scene-format.md).
+        """A scene from ``d``, a dict shaped as the scene file
+        (docs/scene-format.md; tuples and numpy arrays may stand for lists).
         Relative mesh and texture paths resolve against ``base_dir``
-        (default: the current directory)."""
+        (default: the current directory); ``name`` is what error messages
+        call it."""
         if not isinstance(d, dict):
             raise TypeError(f"Scene.from_dict: expected a dict, got {type(d).__name__}")
         return loads(_dumps(d, "scene"), base_dir=base_dir, name=name)
@@ -404,10 +406,12 @@ class Scene:
 
     @property
     def width(self) -> int:
+        """The image width the scene renders at (its render.width, or the default)."""
         return self._core.width
 
     @property
     def height(self) -> int:
+        """The image height the scene renders at (its render.height, or the default)."""
         return self._core.height
 
     # -- typed views -------------------------------------------------------
@@ -473,12 +477,26 @@ class Scene:
         vertices: (n, 3) float32 or float64; triangles: (m, 3) int32 or int64
         vertex indices (0-based); normals: optional (n, 3) per-vertex normals
         (else computed, angle-weighted, as for a mesh file); uvs: optional
-        (n, 2) per-vertex texture coordinates. Shapes, index range and
-        finite values are checked (ValueError / TypeError naming the
-        argument). The arrays are copied into the scene's document as an
-        inline mesh (docs/scene-format.md), so :meth:`to_dict` stays
-        self-contained and renders with the CLI identically. Zero-area
-        triangles are dropped with a warning, as in a mesh file.
+        (n, 2) per-vertex texture coordinates. Any strides; other integer or
+        float dtypes are accepted too (converted first). Shapes, dtypes,
+        index range and finite values (that fit a float32) are checked:
+        ValueError / TypeError naming the argument and row, e.g.
+        ``triangles[4]: vertex index 12 out of range (12 vertices)``.
+
+        material: a material name of the scene (else glint's default
+        material); transform: the object's transform, a dict as in the scene
+        file ({"scale": .., "rotate": .., "translate": ..}); smooth: False for
+        flat shading (face normals); name: the object's name (animation keys
+        name objects by it). These are checked as the loader checks an object
+        (SceneError naming ``objects[n]...``).
+
+        Each array is read once, straight into the scene's own float32 /
+        uint32 arrays (the one copy: later edits of the scene and renders do
+        not copy it again, and changing your arrays afterwards does not change
+        the scene). :meth:`to_dict` writes the mesh out as an inline mesh
+        (docs/scene-format.md), so it stays one self-contained scene that the
+        CLI renders identically. Zero-area triangles are dropped with a
+        warning, as in a mesh file.
         """
         obj: Dict[str, Any] = {"type": "mesh"}
         if material is not None:
@@ -489,8 +507,7 @@ class Scene:
             obj["smooth"] = False
         if name is not None:
             obj["name"] = name
-        text = _glint.mesh_object_json(_dumps(obj, "objects"), vertices, triangles, normals, uvs)
-        self._append_json("objects", text)
+        self._core.add_mesh(_dumps(obj, "objects"), vertices, triangles, normals, uvs)
         return self.objects[-1]
 
     # -- rendering ---------------------------------------------------------
@@ -513,16 +530,19 @@ class Scene:
 
 
 def load(path: "str | os.PathLike[str]") -> Scene:
-    """Loads a scene file (JSON, docs/scene-format.md). Relative mesh and
-    texture paths resolve against the file's folder. Raises SceneError with
-    the file, line and column of the problem, as the CLI reports it."""
+    """Loads the scene file at ``path``: any file glint renders, by its
+    extension: a JSON scene (docs/scene-format.md), an NFF file (docs/nff.md)
+    or a bare mesh file (.obj .ply .gltf .glb, framed as ``glint render``
+    frames it). Relative mesh and texture paths resolve against the file's
+    folder. Raises SceneError with the file, line and column of the problem,
+    as the CLI reports it."""
     return Scene(_glint.Scene.load(_os.fspath(path)))
 
 
 def loads(text: str, base_dir: "str | os.PathLike[str] | None" = None, name: str = "<string>") -> Scene:
-    """A scene from JSON text. Relative mesh and texture paths resolve
-    against ``base_dir`` (default: the current directory); ``name`` is what
-    error messages call the text."""
+    """A scene from ``text``, scene JSON (str or UTF-8 bytes). Relative mesh
+    and texture paths resolve against ``base_dir`` (default: the current
+    directory); ``name`` is what error messages call the text."""
     if isinstance(text, (bytes, bytearray)):
         text = text.decode("utf-8")
     if not isinstance(text, str):
@@ -557,22 +577,20 @@ class Render:
 
     def save(self, path: "str | os.PathLike[str]", exposure: float = 0.0, tonemap: str = "clamp",
              pass_name: Optional[str] = None) -> None:
-        """Writes the image (or ``pass_name``'s) as the CLI would: the format by
-        the extension (.png .jpg .ppm: 8-bit, sRGB, after ``exposure`` (EV)
-        and ``tonemap`` ("clamp", "reinhard", "aces"); .pfm .exr .hdr: the
-        exact linear values). Atomic: an existing file is replaced only by a
-        complete new one."""
+        """Writes the image (or the pass ``pass_name``) to ``path`` as the CLI
+        writes it, byte for byte: the format by the extension (.png .jpg .ppm:
+        8-bit, sRGB, after ``exposure`` (EV) and ``tonemap`` ("clamp",
+        "reinhard", "aces"); .pfm .exr .hdr: the exact linear values). A depth
+        pass is written in all three channels. Atomic: an existing file is
+        replaced only by a complete new one."""
         image = self.image if pass_name is None else self.passes[pass_name]
         if image.ndim == 2:
             image = _np.repeat(image[:, :, None], 3, axis=2)
         _glint.write_image(image, _os.fspath(path), float(exposure), tonemap)
 
     def _repr_png_(self) -> bytes:
-        with _tempfile.TemporaryDirectory() as d:
-            p = _os.path.join(d, "render.png")
-            self.save(p)
-            with open(p, "rb") as f:
-                return f.read()
+        """The image as PNG bytes (clamped, sRGB): how notebooks show a Render."""
+        return _glint.encode_image(self.image, "png")
 
     def __repr__(self) -> str:
         h, w = self.image.shape[:2]
@@ -580,16 +598,25 @@ class Render:
                 f"{self.stats['rays']} rays in {self.stats['render_seconds']:.3f} s>")
 
 
-def _overridden(scene: Scene, width, height, spp) -> "_glint.Scene":
-    """A private snapshot of the scene, with the call's overrides applied
-    (checked as edits are; the caller's scene is untouched)."""
+_MAX_SIDE = 1 << 20  # the loader's limit on render.width and render.height
+
+
+def _int_arg(value: Any, name: str, lo: int, hi: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+        raise TypeError(f"{name}: expected an int, got {type(value).__name__}")
+    if not lo <= value <= hi:
+        raise ValueError(f"{name}: must be from {lo} to {hi} (got {value})")
+    return int(value)
+
+
+def _snapshot(scene: Scene, spp) -> "_glint.Scene":
+    """A private snapshot of the scene (the caller's scene is untouched), with
+    ``spp`` set as the CLI's --spp sets it (adaptive sampling, if any, kept)."""
     core = scene._core.copy()
-    for key, value in (("width", width), ("height", height), ("samples_per_pixel", spp)):
-        if value is not None:
-            if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
-                raise TypeError(f"{'spp' if key == 'samples_per_pixel' else key}: expected an int, "
-                                f"got {type(value).__name__}")
-            core.set_json(f"render.{key}", str(int(value)))
+    if spp is not None:
+        if isinstance(spp, bool) or not isinstance(spp, (int, _np.integer)):
+            raise TypeError(f"spp: expected an int, got {type(spp).__name__}")
+        core.set_json("render.samples_per_pixel", str(int(spp)))
     return core
 
 
@@ -599,8 +626,11 @@ def render(scene: Scene, *, width: Optional[int] = None, height: Optional[int] =
            cancel: Optional[CancelToken] = None) -> Render:
     """Renders a scene and returns a :class:`Render`.
 
-    width, height, spp: override the scene's render settings for this render
-        only (the scene is not changed).
+    width, height: render at this size instead of the scene's (for this
+        render only; the scene is not changed), as ``glint render --width
+        --height`` does: the camera's aspect follows, and an NFF scene's view
+        keeps following its rows (docs/nff.md).
+    spp: samples per pixel for this render, as ``glint render --spp``.
     threads: worker threads, 0 for all cores; the image is bit-identical for
         any count.
     accel: "bvh" (glint's own) or "embree" (when :data:`embree_available`).
@@ -639,38 +669,61 @@ def render(scene: Scene, *, width: Optional[int] = None, height: Optional[int] =
         raise TypeError(f"cancel: expected a glint.CancelToken, got {type(cancel).__name__}")
     if progress is not None and not callable(progress):
         raise TypeError("progress: expected a callable taking the fraction done")
-    core = _overridden(scene, width, height, spp)
+    w = _int_arg(width, "width", 1, _MAX_SIDE) if width is not None else 0
+    h = _int_arg(height, "height", 1, _MAX_SIDE) if height is not None else 0
+    core = _snapshot(scene, spp)
+    if w or h:  # the size as --width / --height give it: the other side stays
+        w, h = w or core.width, h or core.height
     with scene._lock:
         renderer = scene._prepared(core, int(threads), accel, int(frame))
-        image, pass_arrays, stats, address = renderer.render(passes, int(threads), progress, cancel)
+        image, pass_arrays, stats, address = renderer.render(passes, int(threads), progress, cancel, w, h)
     return Render(image, dict(pass_arrays), stats, address)
 
 
-def explain(scene: Scene, x: int, y: int, *, frame: int = 0, text: bool = False) -> Any:
-    """The ray tree behind pixel (x, y) at one sample through its center, as
-    ``glint explain --json`` prints it, as Python objects (a dict whose
-    "color" is that pixel of a 1-spp render). ``text=True``: the CLI's text."""
+def explain(scene: Scene, x: int, y: int, *, width: Optional[int] = None, height: Optional[int] = None,
+            frame: int = 0, text: bool = False) -> Any:
+    """What is behind pixel (x, y): its whole ray tree at one sample through
+    the pixel's center, as ``glint explain --json`` prints it, as Python
+    objects: a dict with "pixel" [x, y], "color" [r, g, b] (that pixel of a
+    1-spp render) and "ray", the tree of rays with each term of the shading
+    formula. ``text=True`` gives the CLI's text instead.
+
+    width, height: the pixel of the view rendered at this size, as
+        ``glint explain --width --height`` (and :func:`render`'s width, height).
+    frame: of an animated scene, the frame (as ``--frame``).
+
+    A pixel outside the image raises SceneError.
+    """
     if not isinstance(scene, Scene):
         raise TypeError(f"explain: expected a glint.Scene, got {type(scene).__name__}")
     for n, v in (("x", x), ("y", y), ("frame", frame)):
         if isinstance(v, bool) or not isinstance(v, (int, _np.integer)):
             raise TypeError(f"{n}: expected an int, got {type(v).__name__}")
+    w = _int_arg(width, "width", 1, _MAX_SIDE) if width is not None else 0
+    h = _int_arg(height, "height", 1, _MAX_SIDE) if height is not None else 0
     core = scene._core.copy()
+    if w or h:
+        w, h = w or core.width, h or core.height
     with scene._lock:
         accel = scene._renderer_key[0] if scene._renderer_key else "bvh"
         renderer = scene._prepared(core, 0, accel, int(frame))
-        out = renderer.explain_text(int(x), int(y)) if text else renderer.explain_json(int(x), int(y))
-    return out if text else _json.loads(out)
+        if text:
+            return renderer.explain_text(int(x), int(y), w, h)
+        return _json.loads(renderer.explain_json(int(x), int(y), w, h))
 
 
 def read_image(path: "str | os.PathLike[str]") -> _np.ndarray:
-    """An image file any glint output format (.png .jpg .ppm .pfm .exr .hdr),
-    as a float32 (height, width, 3) array of linear values."""
+    """Reads the image file at ``path`` in any format glint writes (.png
+    .jpg .ppm .pfm .exr .hdr, by its extension) as a float32 (height, width,
+    3) array of linear values, row 0 at the top; 8-bit formats are
+    sRGB-decoded. Raises SceneError if it cannot be read."""
     return _glint.read_image(_os.fspath(path))
 
 
 def write_image(image: Any, path: "str | os.PathLike[str]", exposure: float = 0.0, tonemap: str = "clamp") -> None:
-    """Writes a float (height, width, 3) array of linear values as the CLI
-    writes images: by the extension (.png .jpg .ppm 8-bit sRGB after
-    ``exposure`` and ``tonemap``; .pfm .exr .hdr linear)."""
+    """Writes ``image``, a float (height, width, 3) array of linear values, to
+    ``path`` as the CLI writes images, the format by the extension: .png .jpg
+    .ppm are 8-bit sRGB after ``exposure`` (EV: values times 2**exposure) and
+    ``tonemap`` ("clamp", "reinhard" or "aces"); .pfm .exr .hdr hold the
+    exact values. Atomic: an existing file is replaced only by a complete one."""
     _glint.write_image(image, _os.fspath(path), float(exposure), tonemap)

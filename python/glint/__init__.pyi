@@ -1,6 +1,6 @@
 # Type stubs for glint (python/glint/__init__.py): what editors complete.
 import os
-from typing import Any, Callable, Dict, Iterator, List, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Iterator, List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -199,7 +199,12 @@ def render(
     progress: Optional[Callable[[float], Any]] = ...,
     cancel: Optional[CancelToken] = ...,
 ) -> Render: ...
-def explain(scene: Scene, x: int, y: int, *, frame: int = ..., text: bool = ...) -> Any: ...
+@overload
+def explain(scene: Scene, x: int, y: int, *, width: Optional[int] = ..., height: Optional[int] = ...,
+            frame: int = ..., text: Literal[False] = ...) -> Dict[str, Any]: ...
+@overload
+def explain(scene: Scene, x: int, y: int, *, width: Optional[int] = ..., height: Optional[int] = ...,
+            frame: int = ..., text: Literal[True]) -> str: ...
 def read_image(path: PathLike) -> npt.NDArray[np.float32]: ...
 def write_image(image: npt.ArrayLike, path: PathLike, exposure: float = ...,
                 tonemap: Literal["clamp", "reinhard", "aces"] = ...) -> None: ...

@@ -2,8 +2,9 @@
 // (include/glint/). It stays thin: the Pythonic API (views, Render, docs)
 // lives in python/glint/__init__.py. What must be native is here: the GIL
 // released while rendering, Ctrl-C seen on the calling thread, images handed
-// to numpy without a copy, meshes checked and turned into scene JSON in one
-// pass over the arrays, and glint::Error raised as glint.SceneError.
+// to numpy without a copy, mesh arrays read (checked and converted) in one
+// pass straight into the scene's own arrays, and glint::Error raised as
+// glint.SceneError.
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -12,10 +13,11 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <glint/glint.h>
-#include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace py = pybind11;
@@ -89,8 +91,10 @@ struct CancelToken {
 // Ctrl-C sets the cancel flag and the render stops within a row of pixels,
 // then calls the user's callback. An exception from either cancels the
 // render and is raised once it has stopped.
+// width and height > 0 render the scene's view at that size, as the CLI's
+// --width and --height do (an NFF view's fov_y follows the height).
 py::tuple render(const Renderer& renderer, const std::vector<std::string>& passes, int threads,
-                 const py::object& progress, CancelToken* token) {
+                 const py::object& progress, CancelToken* token, int width, int height) {
   CancelToken own;
   if (!token) token = &own;
   std::atomic<bool>& cancel = token->cancelled;
@@ -98,6 +102,8 @@ py::tuple render(const Renderer& renderer, const std::vector<std::string>& passe
   glint::api::RenderOptions options;
   options.threads = threads;
   options.passes = passes;
+  options.width = width;
+  options.height = height;
   options.cancel = &cancel;
   options.progress = [&](double fraction) {
     if (failure) return;
@@ -132,90 +138,113 @@ py::tuple render(const Renderer& renderer, const std::vector<std::string>& passe
 }
 
 // --- meshes from arrays -------------------------------------------------
+// Each array is read once, element by element through its strides, into the
+// float32 / uint32 arrays the scene keeps (glint::api::MeshArrays): no
+// intermediate array, no JSON. Values are checked as they are read.
 
-// vertices / normals / uvs: float32 or float64, shape (n, k), finite.
-py::array_t<double, py::array::c_style | py::array::forcecast> float_rows(const py::object& value, const char* name,
-                                                                         py::ssize_t k, py::ssize_t rows) {
-  py::array a = py::array::ensure(value);
-  if (!a) throw py::type_error(std::string(name) + ": expected a numpy array (or a sequence of numbers)");
-  const char kind = a.dtype().kind();
-  if (kind != 'f' && !(kind == 'i' || kind == 'u'))
-    throw py::type_error(std::string(name) + ": expected float32 or float64 values, got dtype " +
-                         py::str(a.dtype()).cast<std::string>());
-  if (a.ndim() != 2 || a.shape(1) != k || (rows >= 0 && a.shape(0) != rows)) {
-    std::string got = "(";
-    for (py::ssize_t i = 0; i < a.ndim(); ++i) got += (i ? ", " : "") + std::to_string(a.shape(i));
-    got += a.ndim() == 1 ? ",)" : ")";
-    throw py::value_error(std::string(name) + ": expected shape (" + (rows >= 0 ? std::to_string(rows) : "n") + ", " +
-                          std::to_string(k) + "), got " + got);
+std::string shape_text(const py::array& a) {
+  std::string got = "(";
+  // Appends only: GCC 12's LTO warns falsely (-Wstringop-overflow) on "..." + std::string here.
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) {
+    if (i) got += ", ";
+    got += std::to_string(a.shape(i));
   }
-  auto d = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
-  const double* p = d.data();
-  for (py::ssize_t i = 0; i < d.size(); ++i)
-    if (!std::isfinite(p[i]) || std::abs(p[i]) > 3.4028234663852886e38)
-      throw py::value_error(std::string(name) + "[" + std::to_string(i / k) + "]: " +
-                            (std::isfinite(p[i]) ? "does not fit in a 32-bit float" : "not a finite number"));
-  return d;
+  got += a.ndim() == 1 ? ",)" : ")";
+  return got;
 }
 
-nlohmann::ordered_json rows_json(const double* p, py::ssize_t n, py::ssize_t k) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  out.get_ref<nlohmann::ordered_json::array_t&>().reserve(static_cast<size_t>(n));
-  for (py::ssize_t i = 0; i < n; ++i) {
-    nlohmann::ordered_json row = nlohmann::ordered_json::array();
-    for (py::ssize_t c = 0; c < k; ++c) row.push_back(p[i * k + c]);
-    out.push_back(std::move(row));
+// A numpy array as it is (a sequence of numbers becomes one first).
+py::array array_of(const py::object& value, const char* name, const char* expected) {
+  py::array a = py::array::ensure(value);
+  if (!a) throw py::type_error(std::string(name) + ": expected " + expected);
+  return a;
+}
+
+template <class T>
+void read_float_rows(const py::array& a, py::ssize_t k, const char* name, std::vector<float>& out) {
+  const auto r = a.unchecked<T, 2>();
+  out.resize(static_cast<size_t>(r.shape(0) * k));
+  float* o = out.data();
+  for (py::ssize_t i = 0; i < r.shape(0); ++i)
+    for (py::ssize_t c = 0; c < k; ++c) {
+      const T x = r(i, c);
+      const float f = static_cast<float>(x);
+      if (!std::isfinite(f))
+        throw py::value_error(std::string(name) + "[" + std::to_string(i) + "]: " +
+                              (std::isfinite(static_cast<double>(x)) ? "does not fit in a 32-bit float"
+                                                                     : "not a finite number"));
+      *o++ = f;
+    }
+}
+
+// vertices / normals / uvs: (rows, k), float32 or float64 read as they are
+// (integers and other floats are converted to float64 first), finite.
+std::vector<float> float_rows(const py::object& value, const char* name, py::ssize_t k, py::ssize_t rows) {
+  py::array a = array_of(value, name, "a numpy array (or a sequence of numbers)");
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + ": expected float32 or float64 values, got dtype " +
+                         py::str(a.dtype()).cast<std::string>());
+  if (a.ndim() != 2 || a.shape(1) != k || (rows >= 0 && a.shape(0) != rows))
+    throw py::value_error(std::string(name) + ": expected shape (" + (rows >= 0 ? std::to_string(rows) : "n") + ", " +
+                          std::to_string(k) + "), got " + shape_text(a));
+  std::vector<float> out;
+  if (py::isinstance<py::array_t<float>>(a)) {
+    read_float_rows<float>(a, k, name, out);
+  } else if (py::isinstance<py::array_t<double>>(a)) {
+    read_float_rows<double>(a, k, name, out);
+  } else {
+    read_float_rows<double>(py::array(a.attr("astype")("float64")), k, name, out);
   }
   return out;
 }
 
-// The mesh object's JSON: `object` (type, material, transform... as JSON
-// text) with the arrays added as "vertices", "triangles", "normals", "uvs".
-std::string mesh_object_json(const std::string& object_json, const py::object& vertices, const py::object& triangles,
-                             const py::object& normals, const py::object& uvs) {
-  auto v = float_rows(vertices, "vertices", 3, -1);
-  const py::ssize_t n = v.shape(0);
-  if (n == 0) throw py::value_error("vertices: no vertices");
-  py::array t = py::array::ensure(triangles);
-  if (!t) throw py::type_error("triangles: expected a numpy array of integers");
+template <class T>
+void read_indices(const py::array& a, size_t vertices, std::vector<uint32_t>& out) {
+  const auto r = a.unchecked<T, 2>();
+  out.resize(static_cast<size_t>(r.shape(0)) * 3);
+  uint32_t* o = out.data();
+  for (py::ssize_t t = 0; t < r.shape(0); ++t)
+    for (py::ssize_t c = 0; c < 3; ++c) {
+      const T i = r(t, c);
+      bool bad = false;
+      if constexpr (std::is_signed_v<T>) bad = i < 0;
+      if (bad || static_cast<uint64_t>(i) >= vertices)
+        throw py::value_error("triangles[" + std::to_string(t) + "]: vertex index " + std::to_string(i) +
+                              " out of range (" + std::to_string(vertices) + " vertices)");
+      *o++ = static_cast<uint32_t>(i);
+    }
+}
+
+// triangles: (m, 3), m > 0, int32 or int64 (any integer type), 0-based.
+std::vector<uint32_t> index_rows(const py::object& value, size_t vertices) {
+  py::array t = array_of(value, "triangles", "a numpy array of integers");
   if (t.dtype().kind() != 'i' && t.dtype().kind() != 'u')
     throw py::type_error("triangles: expected int32 or int64 indices, got dtype " + py::str(t.dtype()).cast<std::string>());
-  if (t.ndim() != 2 || t.shape(1) != 3 || t.shape(0) == 0) {
-    std::string got = "(";
-    for (py::ssize_t i = 0; i < t.ndim(); ++i) got += (i ? ", " : "") + std::to_string(t.shape(i));
-    got += t.ndim() == 1 ? ",)" : ")";
-    throw py::value_error("triangles: expected shape (m, 3) with m > 0, got " + got);
-  }
-  auto ti = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(t);
-  if (t.dtype().kind() == 'u' && t.itemsize() == 8) {
-    // uint64 above 2^63 would wrap in the cast: check the originals.
-    auto tu = py::array_t<uint64_t, py::array::c_style | py::array::forcecast>::ensure(t);
-    for (py::ssize_t i = 0; i < tu.size(); ++i)
-      if (tu.data()[i] >= static_cast<uint64_t>(n))
-        throw py::value_error("triangles[" + std::to_string(i / 3) + "]: vertex index " +
-                              std::to_string(tu.data()[i]) + " out of range (" + std::to_string(n) + " vertices)");
-  }
-  nlohmann::ordered_json object = nlohmann::ordered_json::parse(object_json);
-  object["vertices"] = rows_json(v.data(), n, 3);
-  nlohmann::ordered_json tris = nlohmann::ordered_json::array();
-  const int64_t* ip = ti.data();
-  for (py::ssize_t i = 0; i < t.shape(0); ++i) {
-    for (int c = 0; c < 3; ++c)
-      if (ip[3 * i + c] < 0 || ip[3 * i + c] >= n)
-        throw py::value_error("triangles[" + std::to_string(i) + "]: vertex index " + std::to_string(ip[3 * i + c]) +
-                              " out of range (" + std::to_string(n) + " vertices)");
-    tris.push_back({ip[3 * i], ip[3 * i + 1], ip[3 * i + 2]});
-  }
-  object["triangles"] = std::move(tris);
-  if (!normals.is_none()) {
-    auto a = float_rows(normals, "normals", 3, n);
-    object["normals"] = rows_json(a.data(), n, 3);
-  }
-  if (!uvs.is_none()) {
-    auto a = float_rows(uvs, "uvs", 2, n);
-    object["uvs"] = rows_json(a.data(), n, 2);
-  }
-  return object.dump();
+  if (t.ndim() != 2 || t.shape(1) != 3 || t.shape(0) == 0)
+    throw py::value_error("triangles: expected shape (m, 3) with m > 0, got " + shape_text(t));
+  std::vector<uint32_t> out;
+  if (py::isinstance<py::array_t<int32_t>>(t)) read_indices<int32_t>(t, vertices, out);
+  else if (py::isinstance<py::array_t<int64_t>>(t)) read_indices<int64_t>(t, vertices, out);
+  else if (py::isinstance<py::array_t<uint32_t>>(t)) read_indices<uint32_t>(t, vertices, out);
+  else if (py::isinstance<py::array_t<uint64_t>>(t)) read_indices<uint64_t>(t, vertices, out);
+  else read_indices<int64_t>(py::array(t.attr("astype")("int64")), vertices, out);  // 8- and 16-bit integers
+  return out;
+}
+
+// Scene.add_mesh: the arrays read into the scene's own (the one copy), then
+// the object added with `object_json`'s keys (material, transform...).
+void add_mesh(Scene& scene, const std::string& object_json, const py::object& vertices, const py::object& triangles,
+              const py::object& normals, const py::object& uvs) {
+  glint::api::MeshArrays arrays;
+  arrays.positions = float_rows(vertices, "vertices", 3, -1);
+  const size_t n = arrays.positions.size() / 3;
+  if (n == 0) throw py::value_error("vertices: no vertices");
+  arrays.triangles = index_rows(triangles, n);
+  const auto rows = static_cast<py::ssize_t>(n);
+  if (!normals.is_none()) arrays.normals = float_rows(normals, "normals", 3, rows);
+  if (!uvs.is_none()) arrays.uvs = float_rows(uvs, "uvs", 2, rows);
+  scene.add_mesh(std::move(arrays), object_json);
 }
 
 // --- images ---------------------------------------------------------------
@@ -273,6 +302,9 @@ PYBIND11_MODULE(_glint, m) {
       .def("set_json", &Scene::set_json, py::arg("path"), py::arg("json"))
       .def("erase", &Scene::erase, py::arg("path"))
       .def("append_json", &Scene::append_json, py::arg("path"), py::arg("json"))
+      .def("update_json", &Scene::update_json, py::arg("path"), py::arg("json"))
+      .def("add_mesh", &add_mesh, py::arg("object_json"), py::arg("vertices"), py::arg("triangles"),
+           py::arg("normals"), py::arg("uvs"))
       .def_property_readonly("warnings", &Scene::warnings)
       .def_property_readonly("width", &Scene::width)
       .def_property_readonly("height", &Scene::height)
@@ -304,9 +336,12 @@ PYBIND11_MODULE(_glint, m) {
             r.update(scene);
           },
           py::arg("scene"))
-      .def("render", &render, py::arg("passes"), py::arg("threads"), py::arg("progress"), py::arg("cancel"))
-      .def("explain_json", &Renderer::explain_json, py::arg("x"), py::arg("y"))
-      .def("explain_text", &Renderer::explain_text, py::arg("x"), py::arg("y"));
+      .def("render", &render, py::arg("passes"), py::arg("threads"), py::arg("progress"), py::arg("cancel"),
+           py::arg("width") = 0, py::arg("height") = 0)
+      .def("explain_json", &Renderer::explain_json, py::arg("x"), py::arg("y"), py::arg("width") = 0,
+           py::arg("height") = 0)
+      .def("explain_text", &Renderer::explain_text, py::arg("x"), py::arg("y"), py::arg("width") = 0,
+           py::arg("height") = 0);
 
   py::class_<CancelToken>(m, "CancelToken",
                           "Stops a render from another thread: pass it as glint.render(..., cancel=token)\n"
@@ -323,8 +358,16 @@ PYBIND11_MODULE(_glint, m) {
           "running", [](const CancelToken& t) { return t.running.load(); },
           "True while a render using this token is rendering its pixels.");
 
-  m.def("mesh_object_json", &mesh_object_json, py::arg("object_json"), py::arg("vertices"), py::arg("triangles"),
-        py::arg("normals"), py::arg("uvs"));
+  m.def(
+      "encode_image",
+      [](const py::object& array, const std::string& format, double exposure, const std::string& tonemap) {
+        glint::api::WriteOptions o;
+        o.exposure = exposure;
+        o.tonemap = tonemap_of(tonemap);
+        const std::vector<unsigned char> bytes = glint::api::encode_image(image_from_array(array), format, o);
+        return py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+      },
+      py::arg("image"), py::arg("format"), py::arg("exposure") = 0.0, py::arg("tonemap") = "clamp");
   m.def(
       "write_image",
       [](const py::object& array, const std::string& path, double exposure, const std::string& tonemap) {

@@ -83,6 +83,18 @@ def test_a_material_or_light_edit_reuses_the_geometry(small):
     assert glint.render(small).stats["builds"] == 2
 
 
+def test_update_sets_several_keys_in_one_checked_edit(small):
+    small.objects[0].update(radius=0.6, material="floor")
+    assert (small.objects[0].radius, small.objects[0].material) == (0.6, "floor")
+    before = small.to_json()
+    with pytest.raises(glint.SceneError) as e:
+        small.objects[0].update(radius=0.5, center=(0, 1))  # the second is bad: neither is set
+    assert e.value.path == "objects[0].center" and small.to_json() == before
+    bare = glint.loads('{"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]}, "objects": []}')
+    bare.render_settings.update(width=12, height=8)  # no "render" section yet
+    assert bare.to_dict()["render"] == {"width": 12, "height": 8} and glint.render(bare).image.shape == (8, 12, 3)
+
+
 def test_render_overrides_leave_the_scene_alone(small):
     r = glint.render(small, width=12, height=8, spp=2)
     assert r.image.shape == (8, 12, 3)
@@ -117,7 +129,9 @@ BAD_EDITS = [
     ("in use", lambda s: s.materials.__delitem__("floor"), glint.SceneError, "floor"),
     ("by path", lambda s: s.set("objects[0].radius", -1), glint.SceneError, "objects[0].radius"),
     ("no such object", lambda s: s.set("objects[9].radius", 1), glint.SceneError, "objects[9].radius"),
-    ("render width", lambda s: glint.render(s, width=-5), glint.SceneError, "render.width"),
+    ("render width", lambda s: glint.render(s, width=-5), ValueError, "width: must be from 1 to 1048576 (got -5)"),
+    ("render huge height", lambda s: glint.render(s, height=2**40), ValueError, "height"),
+    ("render width type", lambda s: glint.render(s, width=3.5), TypeError, "width"),
     ("render spp type", lambda s: glint.render(s, spp="many"), TypeError, "spp"),
     ("render pass", lambda s: glint.render(s, passes=["difuse"]), ValueError, "passes"),
     ("render accel", lambda s: glint.render(s, accel="kd-tree"), ValueError, "accel"),
@@ -138,6 +152,20 @@ BAD_EDITS = [
      glint.SceneError, "objects[3]"),
     ("mesh material", lambda s: s.add_mesh(np.eye(3), np.array([[0, 1, 2]]), material="gold"), glint.SceneError,
      "objects[3].material"),
+    ("mesh uvs NaN", lambda s: s.add_mesh(np.eye(3), np.array([[0, 1, 2]]), uvs=np.array([[0, 0], [1, 0], [0, np.nan]])),
+     ValueError, "uvs[2]: not a finite number"),
+    ("mesh quads", lambda s: s.add_mesh(np.eye(4)[:, :3], np.array([[0, 1, 2, 3]])), ValueError,
+     "triangles: expected shape (m, 3) with m > 0, got (1, 4)"),
+    ("mesh no triangles", lambda s: s.add_mesh(np.eye(3), np.zeros((0, 3), np.int32)), ValueError, "triangles"),
+    ("mesh no vertices", lambda s: s.add_mesh(np.zeros((0, 3)), np.array([[0, 1, 2]])), ValueError, "vertices"),
+    ("mesh bool vertices", lambda s: s.add_mesh(np.ones((3, 3), bool), np.array([[0, 1, 2]])), TypeError, "vertices"),
+    ("mesh uint64 index", lambda s: s.add_mesh(np.eye(3), np.array([[0, 1, 2**63 + 5]], np.uint64)), ValueError,
+     "triangles[0]: vertex index 9223372036854775813 out of range (3 vertices)"),
+    ("mesh 1-d", lambda s: s.add_mesh(np.zeros(9), np.array([[0, 1, 2]])), ValueError,
+     "vertices: expected shape (n, 3), got (9,)"),
+    ("mesh transform", lambda s: s.add_mesh(np.eye(3), np.array([[0, 1, 2]]), transform={"scale": 0}),
+     glint.SceneError, "objects[3].transform.scale"),
+    ("mesh not arrays", lambda s: s.add_mesh("abc", np.array([[0, 1, 2]])), TypeError, "vertices"),
 ]
 
 
@@ -189,3 +217,28 @@ def test_from_dict_resolves_relative_files_against_base_dir(root):
     scene = glint.Scene.from_dict(d, base_dir=root / "scenes" / "meshes")
     assert scene.to_dict() == d
     assert copy.deepcopy(scene).to_dict() == d
+
+
+def test_an_animated_scenes_material_edit_reuses_the_geometry(root):
+    """An animated scene is posed at the frame; a material, light or camera
+    edit poses it again over the same acceleration structure (builds stays
+    1), and renders exactly what a fresh scene with that edit renders."""
+    scene = glint.load(root / "scenes" / "animation" / "rolling.json")
+    first = glint.render(scene, width=48, height=27, frame=30)
+    assert first.stats["builds"] == 1
+    scene.materials["red"].diffuse = (0.1, 0.8, 0.2)
+    scene.lights[1].position = (-3, 5, 6)
+    scene.camera.fov_y = 35  # the camera's keys move its position, not its fov
+    edited = glint.render(scene, width=48, height=27, frame=30)
+    assert edited.stats["builds"] == 1
+    fresh = glint.render(scene.copy(), width=48, height=27, frame=30)
+    assert fresh.stats["builds"] == 1
+    assert np.array_equal(bits(edited.image), bits(fresh.image))
+    assert not np.array_equal(bits(edited.image), bits(first.image))
+    # Geometry (an object, or the animation): built again.
+    scene.objects[1].radius = 0.8
+    assert glint.render(scene, width=48, height=27, frame=30).stats["builds"] == 2
+    scene.set("animation.keys[1].objects[\"red ball\"].translate", [0, 1, 2])
+    assert glint.render(scene, width=48, height=27, frame=30).stats["builds"] == 3
+    # Another frame is another renderer (as glint render --frames).
+    assert glint.render(scene, width=48, height=27, frame=31).stats["builds"] == 1

@@ -78,7 +78,7 @@ class Accelerator {
 // Which traversal kernel answers the queries: our BVH, or Intel Embree (when
 // glint was built with it). Both give the same hits up to float ties: Embree's
 // float hits on mesh triangles are refined in double by our triangle test.
-// Ours is the default: it measured faster end to end (README, Performance).
+// Ours is the default: it measured faster end to end (docs/performance.md).
 enum class AccelBackend { bvh, embree };
 
 struct AcceleratorOptions {

@@ -61,7 +61,7 @@ std::vector<unsigned char> encode_image(const Image& image, std::string_view for
     const auto p = pass_from_name(pass);
     if (!p) throw Error("unknown pass \"" + std::string(pass) + "\"");
     if (glint::is_8bit_format(*f)) {
-      // As the CLI writes a pass file (cli/main.cpp): data passes remapped, no curve.
+      // As the CLI writes a pass file (write_outputs, render/frame_job.cpp): data passes remapped, no curve.
       o.data = *p == Pass::normal || *p == Pass::depth;
       internal = pass_image_for_8bit(*p, internal);
     }
@@ -76,8 +76,11 @@ bool embree_available() { return glint::embree_available(); }
 struct Renderer::State {
   Scene scene;  // as last given: what render() draws
   // The snapshot the accelerator was built on (it holds references into it);
-  // its geometry equals that of `scene`.
+  // its geometry equals that of `scene` (or of `posed`).
   std::shared_ptr<const glint::Scene> built_on;
+  // An animated scene as last given, posed at the frame: what render() and
+  // explain draw (camera, materials and lights of the latest edit).
+  std::shared_ptr<const glint::Scene> posed;
   std::unique_ptr<Accelerator> accel;
   size_t geometry_key = 0;
   PrepareOptions options;
@@ -98,16 +101,17 @@ struct Renderer::State {
       throw Error("frame " + std::to_string(options.frame) + " is not in the scene (it has " + std::to_string(frames) +
                   (frames == 1 ? " frame)" : " frames)"));
     // An animated scene is posed at the frame: camera and objects moved.
-    built_on = frames > 1 ? std::make_shared<const glint::Scene>(scene_at_frame(*scene.state()->scene, options.frame))
-                          : scene.state()->scene;
+    if (frames > 1) pose();
+    built_on = frames > 1 ? posed : scene.state()->scene;
     accel = build_accelerator(*built_on, ao);
     geometry_key = scene.geometry_key();
     build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ++builds;
   }
+  void pose() { posed = std::make_shared<const glint::Scene>(scene_at_frame(*scene.state()->scene, options.frame)); }
   // What render() and explain draw: the scene, or the posed frame of an
-  // animated one (rebuilt with it on every update).
-  const glint::Scene& internal() const { return animated() ? *built_on : *scene.state()->scene; }
+  // animated one.
+  const glint::Scene& internal() const { return animated() ? *posed : *scene.state()->scene; }
 };
 
 Renderer::Renderer(const Scene& scene, const PrepareOptions& options)
@@ -118,7 +122,13 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 void Renderer::update(const Scene& scene) {
   state_->scene = scene;
-  if (scene.geometry_key() != state_->geometry_key || state_->animated()) state_->build();
+  if (scene.geometry_key() != state_->geometry_key) {
+    state_->build();
+  } else if (state_->animated()) {
+    // Same objects and animation: the frame's geometry is the one the
+    // accelerator holds; only the camera, materials and lights are posed anew.
+    state_->pose();
+  }
 }
 
 const Scene& Renderer::scene() const { return state_->scene; }
@@ -205,13 +215,30 @@ RenderResult Renderer::render(const RenderOptions& options) const {
   return result;
 }
 
-std::string Renderer::explain_json(int x, int y) const {
-  const glint::Scene& scene = state_->internal();
+namespace {
+
+// The scene at another size for a render or an explanation, as the CLI's
+// --width / --height: the camera's aspect follows, an NFF view's fov_y too.
+const glint::Scene& at_size(const glint::Scene& scene, int width, int height, std::optional<glint::Scene>& sized) {
+  if (width <= 0 || height <= 0) return scene;
+  check_image_size(width, height, SourceLocation{"render options", 0, 0});
+  sized = scene;
+  sized->render.width = width;
+  sized->render.height = height;
+  return *sized;
+}
+
+}  // namespace
+
+std::string Renderer::explain_json(int x, int y, int width, int height) const {
+  std::optional<glint::Scene> sized;
+  const glint::Scene& scene = at_size(state_->internal(), width, height, sized);
   return explanation_json(scene, explain_pixel(scene, *state_->accel, x, y));
 }
 
-std::string Renderer::explain_text(int x, int y) const {
-  const glint::Scene& scene = state_->internal();
+std::string Renderer::explain_text(int x, int y, int width, int height) const {
+  std::optional<glint::Scene> sized;
+  const glint::Scene& scene = at_size(state_->internal(), width, height, sized);
   return explanation_text(scene, explain_pixel(scene, *state_->accel, x, y));
 }
 

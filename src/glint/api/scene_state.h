@@ -1,19 +1,35 @@
 // What a glint::api::Scene shares between its copies: the document (the
-// truth, as JSON) and the Scene the loader made of it. Immutable once made;
-// an edit makes a new one.
+// truth, as JSON), the mesh arrays held beside it, and the Scene the loader
+// made of both. Immutable once made; an edit makes a new one.
 #pragma once
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
+#include "glint/io/scene_loader.h"
 #include "glint/scene.h"
 #include "glint/scene/scene.h"
 
 namespace glint::api {
 
+// An NFF file's view (docs/nff.md): its `angle` spans the centers of the
+// first and last pixel rows, so fov_y follows the rendered height. The
+// scene keeps that meaning while its camera and render.height are still
+// the ones the NFF reader wrote (`camera`, `height`); after an edit of
+// either it is its JSON document, as a converted file is.
+struct NffView {
+  double angle = 0;
+  nlohmann::ordered_json camera, height;
+};
+
 struct Scene::State {
   nlohmann::ordered_json document;
+  // The arrays of add_mesh's objects, which the document names by id
+  // ({"type": "mesh", "$arrays": id}); shared by the states that use them.
+  AttachedMeshes meshes;
+  std::optional<NffView> nff;
   std::filesystem::path base_dir;
   std::string name;  // the file or name messages give
   std::shared_ptr<const glint::Scene> scene;

@@ -23,6 +23,7 @@
 #include "glint/io/nff_file.h"
 #include "glint/io/mesh_scene.h"
 #include "glint/io/texture_file.h"
+#include "glint/scene.h"  // api::MeshArrays (attached meshes)
 
 namespace glint {
 
@@ -123,8 +124,8 @@ class Path {
 class SceneReader {
  public:
   SceneReader(const json::Document& doc, std::filesystem::path base_dir,
-              size_t memory_budget = default_memory_budget())
-      : doc_(doc), base_dir_(std::move(base_dir)), memory_budget_(memory_budget) {}
+              size_t memory_budget = default_memory_budget(), const AttachedMeshes* attached = nullptr)
+      : doc_(doc), base_dir_(std::move(base_dir)), attached_(attached), memory_budget_(memory_budget) {}
 
   // With `errors`, problems are collected (one per material, light, object
   // or section) and reading goes on; without, the first one is thrown.
@@ -751,14 +752,7 @@ class SceneReader {
     const Path tp = join(path, "triangles");
     expect_array(tris, tp);
     if (verts.size() > UINT32_MAX) fail(verts, vp, "more than 2^32 - 1 vertices");
-    // Counted with the mesh files: all of them, with their BVHs, must fit.
-    mesh_vertices_ += verts.size();
-    mesh_triangles_ += tris.size();
-    const std::string excess = exceeds_budget(
-        kBytesPerVertex * double(mesh_vertices_) + kBytesPerTriangle * double(mesh_triangles_), memory_budget_);
-    if (!excess.empty())
-      fail(v, path, "with this mesh the scene's meshes hold " + std::to_string(mesh_triangles_) + " triangles: that " +
-                        excess);
+    count_inline_mesh(v, path, verts.size(), tris.size());
     std::vector<Vec3f> positions(verts.size());
     for (size_t i = 0; i < verts.size(); ++i) positions[i] = float_vec3(verts[i], index(vp, i));
     std::vector<uint32_t> indices(3 * tris.size());
@@ -802,6 +796,25 @@ class SceneReader {
         if (!std::isfinite(uvs[i].u) || !std::isfinite(uvs[i].v)) fail((*u)[i], up, "does not fit in a 32-bit float");
       }
     }
+    return add_mesh_from_arrays(v, path, std::move(positions), std::move(indices), normals, uvs, smooth);
+  }
+
+  // Counted with the mesh files: all of them, with their BVHs, must fit.
+  void count_inline_mesh(const Value& v, const Path& path, size_t vertices, size_t triangles) {
+    mesh_vertices_ += vertices;
+    mesh_triangles_ += triangles;
+    const std::string excess = exceeds_budget(
+        kBytesPerVertex * double(mesh_vertices_) + kBytesPerTriangle * double(mesh_triangles_), memory_budget_);
+    if (!excess.empty())
+      fail(v, path, "with this mesh the scene's meshes hold " + std::to_string(mesh_triangles_) + " triangles: that " +
+                        excess);
+  }
+
+  // The rules of a mesh file (mesh_from_arrays) applied to an inline or
+  // attached mesh, which becomes one of the scene's meshes.
+  uint32_t add_mesh_from_arrays(const Value& v, const Path& path, std::vector<Vec3f> positions,
+                                std::vector<uint32_t> indices, const std::vector<Vec3f>& normals,
+                                const std::vector<UVf>& uvs, bool smooth) {
     MeshFile built;
     try {
       built = mesh_from_arrays(std::move(positions), std::move(indices), normals, uvs, path.str(), smooth);
@@ -817,6 +830,33 @@ class SceneReader {
     mesh.corner_uvs = std::move(built.corner_uvs);
     mesh.triangle_material.assign(mesh.triangle_count(), 0);  // the default material, as a file without one
     return add_mesh(scene_, std::move(mesh));
+  }
+
+  // A mesh whose arrays the API holds in memory (AttachedMeshes): read
+  // straight from them, with no JSON between. They were checked when added
+  // (sizes, index range, finite floats); mesh_from_arrays checks again.
+  uint32_t attached_mesh(const Value& v, const Path& path, bool smooth) {
+    for (size_t k = 0; k < v.size(); ++k)
+      for (std::string_view other : {"file", "vertices", "triangles", "normals", "uvs"})
+        if (v.key(k) == other)
+          throw Error(v.key_location(k), join(path, other).str(),
+                      other == "file" ? "give either \"file\" or inline \"vertices\" and \"triangles\", not both"
+                                      : "this mesh's arrays are set as a whole (they are held in memory)");
+    const Value id = *v.find(kAttachedMeshKey);
+    const Path ip = join(path, kAttachedMeshKey);
+    const double x = number(id, ip);
+    const auto it = id.is_integer() && x >= 0 ? attached_->find(static_cast<uint64_t>(x)) : attached_->end();
+    if (it == attached_->end()) fail(id, ip, "no mesh arrays with this id");
+    const api::MeshArrays& a = *it->second;
+    const size_t n = a.positions.size() / 3;
+    count_inline_mesh(v, path, n, a.triangles.size() / 3);
+    std::vector<Vec3f> positions(n);
+    for (size_t i = 0; i < n; ++i) positions[i] = {a.positions[3 * i], a.positions[3 * i + 1], a.positions[3 * i + 2]};
+    std::vector<Vec3f> normals(a.normals.size() / 3);
+    for (size_t i = 0; i < normals.size(); ++i) normals[i] = {a.normals[3 * i], a.normals[3 * i + 1], a.normals[3 * i + 2]};
+    std::vector<UVf> uvs(a.uvs.size() / 2);
+    for (size_t i = 0; i < uvs.size(); ++i) uvs[i] = {a.uvs[2 * i], a.uvs[2 * i + 1]};
+    return add_mesh_from_arrays(v, path, std::move(positions), a.triangles, normals, uvs, smooth);
   }
 
   // [x, y, z] stored as floats (meshes are): each component must fit.
@@ -851,7 +891,10 @@ class SceneReader {
       case 1: allowed.insert(allowed.end(), {"point", "normal"}); break;
       case 2: allowed.insert(allowed.end(), {"vertices", "uv"}); break;
       case 3: allowed.insert(allowed.end(), {"min", "max"}); break;
-      case 4: allowed.insert(allowed.end(), {"file", "smooth", "vertices", "triangles", "normals", "uvs"}); break;
+      case 4:
+        allowed.insert(allowed.end(), {"file", "smooth", "vertices", "triangles", "normals", "uvs"});
+        if (attached_) allowed.push_back(kAttachedMeshKey);
+        break;
       case 5: allowed.insert(allowed.end(), {"base", "apex", "radius", "caps"}); break;
       case 6: allowed.insert(allowed.end(), {"base", "apex", "base_radius", "apex_radius", "caps"}); break;
       case 7: allowed.insert(allowed.end(), {"center", "normal", "radius", "inner_radius"}); break;
@@ -914,7 +957,9 @@ class SceneReader {
         bool smooth = true;
         if (auto x = v.find("smooth")) smooth = boolean(*x, join(path, "smooth"));
         uint32_t mesh = 0;
-        if (v.find("vertices") || v.find("triangles")) {
+        if (attached_ && v.find(kAttachedMeshKey)) {
+          mesh = attached_mesh(v, path, smooth);
+        } else if (v.find("vertices") || v.find("triangles")) {
           mesh = inline_mesh(v, path, smooth);
         } else {
           const Value file = require(v, path, "file");
@@ -1144,6 +1189,7 @@ class SceneReader {
 
   const json::Document& doc_;
   std::filesystem::path base_dir_;
+  const AttachedMeshes* attached_ = nullptr;
   std::vector<Error>* errors_ = nullptr;
   std::map<std::string, uint32_t> mesh_index_;  // canonical path -> Scene::meshes
   std::set<std::string> smooth_mesh_files_;      // canonical paths some object shades smoothly
@@ -1181,10 +1227,10 @@ void check_image_size(int width, int height, const SourceLocation& where) {
 }
 
 Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir,
-                  size_t memory_budget) {
+                  size_t memory_budget, const AttachedMeshes* attached) {
   const json::Document doc = json::parse(std::move(text), filename);
   try {
-    return SceneReader(doc, base_dir, memory_budget).read();
+    return SceneReader(doc, base_dir, memory_budget, attached).read();
   } catch (const std::bad_alloc&) {
     throw Error(SourceLocation{filename, 0, 0}, "out of memory while loading the scene");
   }

@@ -5,7 +5,10 @@
 // trust the Scene.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +23,18 @@ namespace json {
 class Document;
 }
 
+namespace api {
+struct MeshArrays;
+}
+
+// Mesh arrays held in memory beside a scene document, by id (what
+// glint::api::Scene::add_mesh keeps): the document's mesh object
+// {"type": "mesh", "$arrays": id} takes its vertices, triangles, normals and
+// uvs from here, with the rules of an inline mesh. Only the API passes them;
+// in a scene file "$arrays" is an unknown key.
+inline constexpr const char* kAttachedMeshKey = "$arrays";
+using AttachedMeshes = std::map<uint64_t, std::shared_ptr<const api::MeshArrays>>;
+
 // A path ending in .nff (any case) is read as an NFF file (docs/nff.md).
 Scene load_scene(const std::filesystem::path& path);
 
@@ -30,7 +45,7 @@ std::vector<Error> validate_scene(const std::filesystem::path& path);
 // `filename` is what messages name; relative paths inside resolve against
 // base_dir. Mesh files, each alone and all together, must fit memory_budget.
 Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir = {},
-                  size_t memory_budget = default_memory_budget());
+                  size_t memory_budget = default_memory_budget(), const AttachedMeshes* attached = nullptr);
 
 // A document built in memory (json::DocumentBuilder; the NFF reader's), through
 // the same checks as a file's; read_scene_document throws the first problem,

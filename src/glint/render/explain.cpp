@@ -27,7 +27,7 @@ PixelExplanation explain_pixel(const Scene& scene, const Accelerator& accel, int
   e.y = y;
   // Exactly the spp-1 path of render_image: the center ray, depth 1.
   const Ray ray = generate_camera_ray(frame, (x + 0.5) / w, (y + 0.5) / h);
-  const Color c = integrator.cast_ray(ray, 1, ctx, &e.ray);
+  const Color c = integrator.trace_ray(ray, 1, ctx, e.ray);
   e.color = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
   return e;
 }

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "glint/geometry/shapes.h"
+#include "glint/render/stratified.h"
 #include "glint/render/texture.h"
 
 namespace glint {
@@ -197,24 +198,187 @@ SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
   return sp;
 }
 
+// The point being shaded: the hit, evaluated, with the directions and
+// offset origins every light sample and secondary ray uses.
+struct ShadingPoint {
+  SurfacePoint sp;
+  Vec3 d;  // the incoming ray's unit direction
+  Vec3 v;  // toward the viewer: -d
+  Vec3 n;  // the shading normal on the viewer's side (two-sided surfaces)
+  bool entering = false;  // from the outside, by the geometric normal
+  // Secondary rays leave from just off the surface: shadow and reflected
+  // rays on the incoming side, refracted rays on the far side.
+  Vec3 above, below;
+};
+
+// A point light, a spot, an area light's sample point, or a direction.
+struct LightSample {
+  uint32_t light = 0;  // into Scene::lights
+  Vec3 to_light;       // from the surface point to the light's point, or toward a directional light
+  double shadow_t_max = 1.0;  // 1: up to the light's point (to_light's length); infinity for a direction
+  double distance = 0;        // for attenuation; 0 for a direction
+  double weight = 1.0;        // 1 / samples for an area light
+};
+
+namespace {
+
+// The render's recorder: records nothing. Every hook is empty and inlines
+// away, so the render's shading compiles without a trace branch; the
+// shadow query goes through the light's shadow cache.
+struct NoRecorder {
+  void surface(const ShadingPoint&) {}
+  NoRecorder light(uint32_t) { return {}; }
+  NoRecorder reflection(const Color&) { return {}; }
+  NoRecorder refraction(const Color&) { return {}; }
+  void ray(const Ray&, int, const std::optional<Hit>&, const Color&) {}
+  // Per light sample:
+  void spot_factor(double) {}
+  void attenuation_denominator(double) {}
+  static bool blocked(const Accelerator& accel, const Ray& shadow, uint32_t* cache) {
+    return cache ? accel.occluded_cached(shadow, *cache) : accel.occluded(shadow);
+  }
+  void lit(double) {}
+  void done(const Light&, const ShadingPoint&, const ShadeTerms&) {}
+};
+
+// Explain's recorder of one light: the facts of LightTrace. The shadow
+// query is the same any-hit query, asked for the blocker's name.
+struct LightTraceRecorder {
+  LightTrace* t;
+  void spot_factor(double f) { t->spot_factor = f; }
+  void attenuation_denominator(double d) { t->attenuation = 1.0 / d; }
+  bool blocked(const Accelerator& accel, const Ray& shadow, uint32_t*) {
+    const std::optional<uint32_t> blocker = accel.first_blocker(shadow);
+    if (blocker && !t->blocker) t->blocker = blocker;
+    return blocker.has_value();
+  }
+  void lit(double cos_spec) {
+    t->lit_samples++;
+    if (!t->specular_cos) t->specular_cos = cos_spec;
+  }
+  void done(const Light& light, const ShadingPoint& at, const ShadeTerms& terms) {
+    switch (light.type) {
+      case LightType::ambient:
+        break;
+      case LightType::point:
+      case LightType::spot:
+        t->l = normalize(light.position - at.sp.p);
+        break;
+      case LightType::directional:
+        t->l = -light.direction;
+        break;
+      case LightType::area:  // toward the center
+        t->samples = light.samples;
+        t->l = normalize(light.corner + 0.5 * (light.edge_u + light.edge_v) - at.sp.p);
+        break;
+    }
+    t->terms = terms;
+    if (light.type != LightType::ambient) {
+      t->n_dot_l = dot(at.n, t->l);
+      t->shadowed = t->blocker.has_value() && t->lit_samples == 0;
+    }
+  }
+};
+
+// Explain's recorder of one ray: fills its RayTrace node and makes the
+// nodes of its lights and child rays.
+struct TraceRecorder {
+  RayTrace* t;
+  void surface(const ShadingPoint& at) {
+    t->surface = at.sp;
+    t->normal = at.n;
+  }
+  LightTraceRecorder light(uint32_t index) {
+    t->lights.emplace_back();
+    t->lights.back().index = index;
+    return {&t->lights.back()};
+  }
+  TraceRecorder reflection(const Color& weight) {
+    t->reflection_weight = weight;
+    t->reflection = std::make_unique<RayTrace>();
+    return {t->reflection.get()};
+  }
+  TraceRecorder refraction(const Color& weight) {
+    t->refraction_weight = weight;
+    t->refraction = std::make_unique<RayTrace>();
+    return {t->refraction.get()};
+  }
+  void ray(const Ray& r, int depth, const std::optional<Hit>& hit, const Color& color) {
+    t->ray = r;
+    t->depth = depth;
+    t->hit = hit;
+    t->color = color;
+  }
+};
+
+// Schlick's approximation of the Fresnel reflectance, per color channel.
+Color schlick(const Color& f0, double cos_theta) {
+  const double m = std::pow(1.0 - cos_theta, 5.0);
+  return f0 + (Color(1.0) - f0) * m;
+}
+
+// x^alpha. Whole exponents (the usual 32, 100, ...) by repeated squaring:
+// several times cheaper than std::pow, within a few ulps of it.
+double shininess_pow(double x, double alpha) {
+  if (alpha <= 65536.0 && alpha == std::floor(alpha)) {
+    auto n = static_cast<uint32_t>(alpha);
+    double result = 1.0;
+    while (n) {
+      if (n & 1u) result *= x;
+      x *= x;
+      n >>= 1u;
+    }
+    return result;
+  }
+  return std::pow(x, alpha);
+}
+
+ShadingPoint shading_point(const Scene& scene, const Ray& ray, const Hit& hit, double epsilon) {
+  ShadingPoint at;
+  at.sp = evaluate_hit(scene, ray, hit);
+  at.d = normalize(ray.direction);
+  at.v = -at.d;
+  at.n = dot(at.sp.shading_normal, at.d) < 0.0 ? at.sp.shading_normal : -at.sp.shading_normal;
+  // Inside and outside come from the geometric normal (the contract): a
+  // smooth normal may face the other way than the surface near silhouettes.
+  at.entering = dot(at.sp.geometric_normal, at.d) < 0.0;
+  const Vec3 ng = at.entering ? at.sp.geometric_normal : -at.sp.geometric_normal;
+  at.above = at.sp.p + epsilon * ng;
+  at.below = at.sp.p - epsilon * ng;
+  return at;
+}
+
+}  // namespace
+
 Integrator::Integrator(const Scene& scene, const Accelerator& accel)
     : scene_(scene), accel_(accel), epsilon_(scene.render.epsilon.value_or(auto_epsilon(scene))) {
   for (const Light& light : scene.lights)
     cos_cutoff_.push_back(std::cos(light.cutoff * std::numbers::pi / 180.0));
 }
 
-Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace* trace) const {
+template <class Recorder>
+Color Integrator::cast(const Ray& ray, int depth, TraceContext& ctx, Recorder& rec) const {
   const std::optional<Hit> hit = accel_.intersect(ray);
   if (hit && depth == 1) ctx.stats.camera_hits++;
   Color color = scene_.render.background;
-  if (hit) color = shade_surface(ray, *hit, depth, ctx, trace).sum();
-  if (trace) {
-    trace->ray = ray;
-    trace->depth = depth;
-    trace->hit = hit;
-    trace->color = color;
-  }
+  if (hit) color = shade(ray, *hit, depth, ctx, rec).sum();
+  rec.ray(ray, depth, hit, color);
   return color;
+}
+
+Color Integrator::cast_ray(const Ray& ray, int depth, TraceContext& ctx) const {
+  NoRecorder rec;
+  return cast(ray, depth, ctx, rec);
+}
+
+Color Integrator::trace_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace& trace) const {
+  TraceRecorder rec{&trace};
+  return cast(ray, depth, ctx, rec);
+}
+
+ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx) const {
+  NoRecorder rec;
+  return shade(ray, hit, depth, ctx, rec);
 }
 
 Color Integrator::cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth,
@@ -248,191 +412,112 @@ CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::opt
   return out;
 }
 
-namespace {
-
-// Schlick's approximation of the Fresnel reflectance, per color channel.
-Color schlick(const Color& f0, double cos_theta) {
-  const double m = std::pow(1.0 - cos_theta, 5.0);
-  return f0 + (Color(1.0) - f0) * m;
-}
-
-// x^alpha. Whole exponents (the usual 32, 100, ...) by repeated squaring:
-// several times cheaper than std::pow, within a few ulps of it.
-double shininess_pow(double x, double alpha) {
-  if (alpha <= 65536.0 && alpha == std::floor(alpha)) {
-    auto n = static_cast<uint32_t>(alpha);
-    double result = 1.0;
-    while (n) {
-      if (n & 1u) result *= x;
-      x *= x;
-      n >>= 1u;
-    }
-    return result;
-  }
-  return std::pow(x, alpha);
-}
-
-}  // namespace
-
-void Integrator::add_light_sample(const Light& light, double cos_cutoff, const Vec3& to_light,
-                                  double shadow_t_max, double distance, const SurfacePoint& sp, const Vec3& n,
-                                  const Vec3& v, const Vec3& shadow_origin, double weight, ShadeTerms& out,
-                                  TraceContext& ctx, LightTrace* trace) const {
-  const Vec3 l = normalize(to_light);
-  const double n_dot_l = dot(n, l);
+template <class LightRecorder>
+void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, ShadeTerms& out, TraceContext& ctx,
+                                  LightRecorder& rec) const {
+  const Light& light = scene_.lights[s.light];
+  const Vec3 l = normalize(s.to_light);
+  const double n_dot_l = dot(at.n, l);
   if (!(n_dot_l > 0.0)) return;
 
-  double scale = weight;
+  double scale = s.weight;
   if (light.type == LightType::spot) {
     const double cos_angle = -dot(l, light.direction);
     // The cone's edge counts as inside; the tolerance absorbs rounding.
-    if (cos_angle < cos_cutoff - 1e-12) {
-      if (trace) trace->spot_factor = 0;
+    if (cos_angle < cos_cutoff_[s.light] - 1e-12) {
+      rec.spot_factor(0);
       return;
     }
     if (light.falloff != 0.0) {
       const double factor = std::pow(std::max(0.0, cos_angle), light.falloff);
       scale *= factor;
-      if (trace) trace->spot_factor = factor;
+      rec.spot_factor(factor);
     }
   }
   if (light.type != LightType::directional) {
     const Vec3& a = light.attenuation;
-    const double denominator = a.x + a.y * distance + a.z * distance * distance;
+    const double denominator = a.x + a.y * s.distance + a.z * s.distance * s.distance;
     scale /= denominator;
-    if (trace) trace->attenuation = 1.0 / denominator;
+    rec.attenuation_denominator(denominator);
   }
 
   Ray shadow;
-  shadow.origin = shadow_origin;
-  shadow.direction = light.type == LightType::directional ? l : to_light + (sp.p - shadow_origin);
+  shadow.origin = at.above;
+  shadow.direction = light.type == LightType::directional ? l : s.to_light + (at.sp.p - at.above);
   shadow.t_min = 0.0;
-  shadow.t_max = shadow_t_max;
+  shadow.t_max = s.shadow_t_max;
   ctx.stats.shadow++;
-  if (trace) {
-    // The same any-hit query, asked for the blocker's name.
-    if (const auto blocker = accel_.first_blocker(shadow)) {
-      if (!trace->blocker) trace->blocker = blocker;
-      return;
-    }
-  } else {
-    const size_t li = static_cast<size_t>(&light - scene_.lights.data());
-    if (li < ctx.shadow_cache.size() ? accel_.occluded_cached(shadow, ctx.shadow_cache[li]) : accel_.occluded(shadow))
-      return;
-  }
+  if (rec.blocked(accel_, shadow, s.light < ctx.shadow_cache.size() ? &ctx.shadow_cache[s.light] : nullptr)) return;
 
-  const Material& m = scene_.materials[sp.material];
-  out.diffuse += (scale * n_dot_l) * (sp.reflectance.diffuse * light.diffuse);
+  const Material& m = scene_.materials[at.sp.material];
+  const Reflectances& r = at.sp.reflectance;
+  out.diffuse += (scale * n_dot_l) * (r.diffuse * light.diffuse);
   double cos_spec = 0.0;  // r.v or n.h, before clamping
   if (scene_.render.shading_model == ShadingModel::phong) {
-    const Vec3 r = 2.0 * n_dot_l * n - l;
-    cos_spec = dot(r, v);
+    const Vec3 reflected = 2.0 * n_dot_l * at.n - l;
+    cos_spec = dot(reflected, at.v);
   } else {
-    const Vec3 half = l + v;
+    const Vec3 half = l + at.v;
     const double len = length(half);
-    if (len > 0.0) cos_spec = dot(n, half / len);
+    if (len > 0.0) cos_spec = dot(at.n, half / len);
   }
-  const double s = std::max(0.0, cos_spec);
-  if (s > 0.0 && !is_black(sp.reflectance.specular * light.specular))
-    out.specular += (scale * shininess_pow(s, m.shininess)) * (sp.reflectance.specular * light.specular);
-  if (trace) {
-    trace->lit_samples++;
-    if (!trace->specular_cos) trace->specular_cos = cos_spec;
+  const double c = std::max(0.0, cos_spec);
+  if (c > 0.0 && !is_black(r.specular * light.specular))
+    out.specular += (scale * shininess_pow(c, m.shininess)) * (r.specular * light.specular);
+  rec.lit(cos_spec);
+}
+
+template <class LightRecorder>
+void Integrator::add_area_light(const ShadingPoint& at, uint32_t li, ShadeTerms& out, TraceContext& ctx,
+                                LightRecorder& rec) const {
+  // Stratified jittered points on the parallelogram, one per grid cell, each
+  // a point light of weight 1/N.
+  const Light& light = scene_.lights[li];
+  const auto [nu, nv] = stratified_grid(light.samples);
+  const double weight = 1.0 / light.samples;
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      const double su = (i + ctx.rng.next_double()) / nu;
+      const double sv = (j + ctx.rng.next_double()) / nv;
+      const Vec3 pos = light.corner + su * light.edge_u + sv * light.edge_v;
+      const Vec3 to_light = pos - at.sp.p;
+      add_light_sample(at, LightSample{li, to_light, 1.0, length(to_light), weight}, out, ctx, rec);
+    }
   }
 }
 
-ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx,
-                                     RayTrace* trace) const {
-  const SurfacePoint sp = evaluate_hit(scene_, ray, hit);
-  const Material& m = scene_.materials[sp.material];
-  const Vec3 d = normalize(ray.direction);
-  const Vec3 v = -d;
-  // Two-sided surfaces: shade with the normal on the viewer's side.
-  const Vec3 n = dot(sp.shading_normal, d) < 0.0 ? sp.shading_normal : -sp.shading_normal;
-  // Inside and outside come from the geometric normal (the contract): a
-  // smooth normal may face the other way than the surface near silhouettes.
-  const bool entering = dot(sp.geometric_normal, d) < 0.0;
-  const Vec3 ng = entering ? sp.geometric_normal : -sp.geometric_normal;
-  // Secondary rays leave from just off the surface: shadow and reflected rays
-  // on the incoming side, refracted rays on the far side.
-  const Vec3 above = sp.p + epsilon_ * ng;
-  const Vec3 below = sp.p - epsilon_ * ng;
-  if (trace) {
-    trace->surface = sp;
-    trace->normal = n;
+template <class Recorder>
+ShadeTerms Integrator::light_terms(const ShadingPoint& at, uint32_t li, TraceContext& ctx, Recorder& rec) const {
+  const Light& light = scene_.lights[li];
+  auto light_rec = rec.light(li);
+  ShadeTerms terms;
+  terms.ambient = at.sp.reflectance.ambient * light.ambient;
+  switch (light.type) {
+    case LightType::ambient:
+      break;
+    case LightType::point:
+    case LightType::spot: {
+      const Vec3 to_light = light.position - at.sp.p;
+      add_light_sample(at, LightSample{li, to_light, 1.0, length(to_light), 1.0}, terms, ctx, light_rec);
+      break;
+    }
+    case LightType::directional:
+      add_light_sample(at, LightSample{li, -light.direction, kInfinity, 0.0, 1.0}, terms, ctx, light_rec);
+      break;
+    case LightType::area:
+      add_area_light(at, li, terms, ctx, light_rec);
+      break;
   }
-  ShadeTerms out;
-  if (m.unlit) {  // MTL illum 0: the color is Kd, no lights, no shadows, no rays
-    out.ambient = sp.reflectance.diffuse;
-    return out;
-  }
+  light_rec.done(light, at, terms);
+  return terms;
+}
 
-  // Each light's terms are summed on their own, then added: the contract's
-  // "sum over lights", in the same order whether or not a trace is kept.
-  for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
-    const Light& light = scene_.lights[li];
-    ShadeTerms terms;
-    LightTrace* light_trace = nullptr;
-    if (trace) {
-      trace->lights.emplace_back();
-      light_trace = &trace->lights.back();
-      light_trace->index = li;
-    }
-    terms.ambient = sp.reflectance.ambient * light.ambient;
-    switch (light.type) {
-      case LightType::ambient:
-        break;
-      case LightType::point:
-      case LightType::spot: {
-        const Vec3 to_light = light.position - sp.p;
-        add_light_sample(light, cos_cutoff_[li], to_light, 1.0, length(to_light), sp, n, v, above, 1.0, terms,
-                         ctx, light_trace);
-        if (light_trace) light_trace->l = normalize(to_light);
-        break;
-      }
-      case LightType::directional:
-        add_light_sample(light, cos_cutoff_[li], -light.direction, kInfinity, 0.0, sp, n, v, above, 1.0, terms,
-                         ctx, light_trace);
-        if (light_trace) light_trace->l = -light.direction;
-        break;
-      case LightType::area: {
-        // Stratified jittered points on the parallelogram, one per cell of an
-        // nu x nv grid (nu * nv == samples), each a point light of weight 1/N.
-        int nu = static_cast<int>(std::sqrt(static_cast<double>(light.samples)));
-        while (light.samples % nu != 0) --nu;
-        const int nv = light.samples / nu;
-        const double weight = 1.0 / light.samples;
-        for (int j = 0; j < nv; ++j) {
-          for (int i = 0; i < nu; ++i) {
-            const double su = (i + ctx.rng.next_double()) / nu;
-            const double sv = (j + ctx.rng.next_double()) / nv;
-            const Vec3 pos = light.corner + su * light.edge_u + sv * light.edge_v;
-            const Vec3 to_light = pos - sp.p;
-            add_light_sample(light, cos_cutoff_[li], to_light, 1.0, length(to_light), sp, n, v, above, weight,
-                             terms, ctx, light_trace);
-          }
-        }
-        if (light_trace) {
-          light_trace->samples = light.samples;
-          light_trace->l = normalize(light.corner + 0.5 * (light.edge_u + light.edge_v) - sp.p);
-        }
-        break;
-      }
-    }
-    if (light_trace) {
-      light_trace->terms = terms;
-      if (light.type != LightType::ambient) {
-        light_trace->n_dot_l = dot(n, light_trace->l);
-        light_trace->shadowed = light_trace->blocker.has_value() && light_trace->lit_samples == 0;
-      }
-    }
-    out.ambient += terms.ambient;
-    out.diffuse += terms.diffuse;
-    out.specular += terms.specular;
-  }
-
+template <class Recorder>
+void Integrator::add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec,
+                                    ShadeTerms& out) const {
   // Weights of the reflected and refracted rays (contract: materials, fresnel).
-  const double cos_theta = std::clamp(dot(v, n), 0.0, 1.0);
+  const Material& m = scene_.materials[at.sp.material];
+  const double cos_theta = std::clamp(dot(at.v, at.n), 0.0, 1.0);
   Color reflect_weight = m.reflectivity;
   Color refract_weight(m.transparency);
   if (m.fresnel) {
@@ -441,43 +526,52 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, 
     reflect_weight = schlick(m.reflectivity, cos_theta) + Color(m.transparency * s_glass);
     refract_weight = Color(m.transparency * (1.0 - s_glass));
   }
-  if (depth + 1 <= scene_.render.max_depth) {
-    Vec3 refracted_dir;
-    bool refracts = false;
-    if (!is_black(refract_weight)) {
-      // Snell's law; the inside has index ior, the outside 1.
-      const double eta = entering ? 1.0 / m.ior : m.ior;
-      const double k = 1.0 - eta * eta * (1.0 - cos_theta * cos_theta);
-      if (k < 0.0) {
-        reflect_weight += refract_weight;  // total internal reflection
-      } else {
-        refracted_dir = eta * d + (eta * cos_theta - std::sqrt(k)) * n;
-        refracts = true;
-      }
-    }
-    if (!is_black(reflect_weight)) {
-      ctx.stats.reflection++;
-      const Ray reflected{above, reflect(d, n)};
-      RayTrace* child = nullptr;
-      if (trace) {
-        trace->reflection_weight = reflect_weight;
-        trace->reflection = std::make_unique<RayTrace>();
-        child = trace->reflection.get();
-      }
-      out.reflection = reflect_weight * cast_ray(reflected, depth + 1, ctx, child);
-    }
-    if (refracts) {
-      ctx.stats.refraction++;
-      const Ray refracted{below, refracted_dir};
-      RayTrace* child = nullptr;
-      if (trace) {
-        trace->refraction_weight = refract_weight;
-        trace->refraction = std::make_unique<RayTrace>();
-        child = trace->refraction.get();
-      }
-      out.transmission = refract_weight * cast_ray(refracted, depth + 1, ctx, child);
+  if (depth + 1 > scene_.render.max_depth) return;
+  Vec3 refracted_dir;
+  bool refracts = false;
+  if (!is_black(refract_weight)) {
+    // Snell's law; the inside has index ior, the outside 1.
+    const double eta = at.entering ? 1.0 / m.ior : m.ior;
+    const double k = 1.0 - eta * eta * (1.0 - cos_theta * cos_theta);
+    if (k < 0.0) {
+      reflect_weight += refract_weight;  // total internal reflection
+    } else {
+      refracted_dir = eta * at.d + (eta * cos_theta - std::sqrt(k)) * at.n;
+      refracts = true;
     }
   }
+  if (!is_black(reflect_weight)) {
+    ctx.stats.reflection++;
+    const Ray reflected{at.above, reflect(at.d, at.n)};
+    auto child = rec.reflection(reflect_weight);
+    out.reflection = reflect_weight * cast(reflected, depth + 1, ctx, child);
+  }
+  if (refracts) {
+    ctx.stats.refraction++;
+    const Ray refracted{at.below, refracted_dir};
+    auto child = rec.refraction(refract_weight);
+    out.transmission = refract_weight * cast(refracted, depth + 1, ctx, child);
+  }
+}
+
+template <class Recorder>
+ShadeTerms Integrator::shade(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx, Recorder& rec) const {
+  const ShadingPoint at = shading_point(scene_, ray, hit, epsilon_);
+  rec.surface(at);
+  ShadeTerms out;
+  if (scene_.materials[at.sp.material].unlit) {  // MTL illum 0: the color is Kd, no lights, no shadows, no rays
+    out.ambient = at.sp.reflectance.diffuse;
+    return out;
+  }
+  // Each light's terms are summed on their own, then added: the contract's
+  // "sum over lights", in the same order whether or not a trace is kept.
+  for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
+    const ShadeTerms terms = light_terms(at, li, ctx, rec);
+    out.ambient += terms.ambient;
+    out.diffuse += terms.diffuse;
+    out.specular += terms.specular;
+  }
+  add_secondary_rays(at, depth, ctx, rec, out);
   return out;
 }
 

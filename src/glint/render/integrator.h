@@ -102,15 +102,22 @@ struct RayTrace {
   Color color;
 };
 
+// The shaded point as its light samples and secondary rays see it, and one
+// point (or direction) a light shines from (integrator.cpp).
+struct ShadingPoint;
+struct LightSample;
+
 class Integrator {
  public:
   Integrator(const Scene& scene, const Accelerator& accel);
 
   // Color seen along `ray`, a ray of the given depth (the camera ray is 1).
-  // With `trace`, also records the ray tree (same arithmetic, same result).
-  Color cast_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace* trace = nullptr) const;
-  ShadeTerms shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx,
-                           RayTrace* trace = nullptr) const;
+  Color cast_ray(const Ray& ray, int depth, TraceContext& ctx) const;
+  // The same color, recording the ray tree into `trace` (`glint explain`):
+  // the same code and arithmetic, through a recorder that keeps what the
+  // render's no-op recorder drops.
+  Color trace_ray(const Ray& ray, int depth, TraceContext& ctx, RayTrace& trace) const;
+  ShadeTerms shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx) const;
   // cast_ray for a camera ray (depth 1), keeping the parts apart.
   CameraSample cast_camera_ray(const Ray& ray, TraceContext& ctx) const;
   // The same two, for a camera ray whose first hit is already known (found
@@ -121,13 +128,27 @@ class Integrator {
   double epsilon() const { return epsilon_; }
 
  private:
-  // Diffuse + specular from a point source at `to_light` from the surface
-  // (point, spot and area samples) or from a direction (`directional`),
-  // shadow ray included, added to `out` (and to `trace` when given).
-  void add_light_sample(const Light& light, double cos_cutoff, const Vec3& to_light, double shadow_t_max,
-                        double distance, const SurfacePoint& sp, const Vec3& n, const Vec3& v,
-                        const Vec3& shadow_origin, double weight, ShadeTerms& out, TraceContext& ctx,
-                        LightTrace* trace) const;
+  // The shading code, once, for both recorders (integrator.cpp): `Recorder`
+  // is the render's NoRecorder, whose hooks are empty and inline away, or
+  // explain's TraceRecorder, which fills a RayTrace.
+  template <class Recorder>
+  Color cast(const Ray& ray, int depth, TraceContext& ctx, Recorder& rec) const;
+  template <class Recorder>
+  ShadeTerms shade(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx, Recorder& rec) const;
+  // One light's ambient, diffuse and specular at the point.
+  template <class Recorder>
+  ShadeTerms light_terms(const ShadingPoint& at, uint32_t light, TraceContext& ctx, Recorder& rec) const;
+  // An area light's stratified samples, added to `out`.
+  template <class LightRecorder>
+  void add_area_light(const ShadingPoint& at, uint32_t light, ShadeTerms& out, TraceContext& ctx,
+                      LightRecorder& rec) const;
+  // Diffuse + specular from one light sample, shadow ray included, added to `out`.
+  template <class LightRecorder>
+  void add_light_sample(const ShadingPoint& at, const LightSample& sample, ShadeTerms& out, TraceContext& ctx,
+                        LightRecorder& rec) const;
+  // The weighted reflected and refracted rays, into out.reflection and out.transmission.
+  template <class Recorder>
+  void add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec, ShadeTerms& out) const;
 
   const Scene& scene_;
   const Accelerator& accel_;

@@ -13,6 +13,7 @@
 
 #include "glint/render/camera.h"
 #include "glint/render/filter.h"
+#include "glint/render/stratified.h"
 
 namespace glint {
 
@@ -24,12 +25,6 @@ int resolve_thread_count(int requested) {
 
 Rng pixel_rng(int x, int y) {
   return Rng(mix_seed(static_cast<uint64_t>(x), static_cast<uint64_t>(y), 0x676c696e74ULL));
-}
-
-void stratified_grid(int samples, int& nx, int& ny) {
-  nx = static_cast<int>(std::sqrt(static_cast<double>(samples)));
-  while (samples % nx != 0) --nx;
-  ny = samples / nx;
 }
 
 namespace {
@@ -89,8 +84,9 @@ double sum_pixel_samples(const PixelContext& pc, int x, int y, int spp, TraceCon
     add_camera_sample<kWithPasses>(pc.integrator, center_ray(pc, x, y), 1.0, ctx, sums, center_hit);
     return 1.0;
   }
-  int nx, ny;
-  stratified_grid(spp, nx, ny);
+  // Sample positions inside a pixel: spp 1 is the exact center (above);
+  // N > 1 is one jittered point per cell of the stratified grid.
+  const auto [nx, ny] = stratified_grid(spp);
   if (!pc.filter) {
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {

@@ -52,10 +52,6 @@ struct RenderStats {
   int threads = 1;
 };
 
-// Sample positions inside a pixel: spp 1 is the exact center; N > 1 is one
-// jittered point per cell of an nx x ny grid with nx * ny == N.
-void stratified_grid(int samples, int& nx, int& ny);
-
 Image render_image(const Scene& scene, const Accelerator& accel, const RenderOptions& options = {},
                    RenderStats* stats = nullptr);
 

@@ -1,7 +1,7 @@
 // Resume files: what an interrupted render keeps so `--resume` can finish
 // only the missing tiles. It holds the finished tiles' exact float pixels
-// (the output image may be 8-bit) and a key of the scene and settings, so a
-// resume never mixes two different renders.
+// (the output image may be 8-bit) and a key of every input and setting the
+// pixels depend on, so a resume never mixes two different renders.
 #pragma once
 
 #include <cstdint>
@@ -23,8 +23,22 @@ struct ResumeState {
   PassImages passes;  // the passes' finished tiles, when the render has passes
 };
 
-// FNV-1a over the scene file's bytes and the settings that shape the pixels.
-uint64_t resume_key(std::span<const unsigned char> scene_bytes, const RenderSettings& settings);
+// What a scene's pixels depend on besides its render settings, as one digest:
+// `description` (the scene file's bytes, or the scene's canonical JSON when it
+// was made from text or in code) and what the scene read from every other
+// file, as loaded: each mesh's arrays, each texture image's texels, and the
+// materials and textures (MTL and glTF files bring their own). Hashing what
+// was loaded rather than the files again covers the files a mesh file names
+// (its .mtl, a glTF's buffers and images), cannot see a file edited after it
+// was read, and costs no I/O. A key computed before a render thus refuses a
+// resume after any edit that changes a pixel's inputs. (Edits that load to
+// the same data, such as a comment in an OBJ file, resume: the image is the
+// same.) Cost: one pass over the loaded arrays, a few GB/s.
+uint64_t scene_inputs_digest(std::span<const unsigned char> description, const Scene& scene);
+
+// The key of one frame's resume file: the inputs' digest, the settings that
+// shape the pixels, and the frame.
+uint64_t resume_key(uint64_t inputs_digest, const RenderSettings& settings, int frame = 0);
 
 // `<output>.glint-resume`, beside the output image.
 std::filesystem::path resume_path_for(const std::filesystem::path& output);
