@@ -103,27 +103,34 @@ Json parse_value(std::string_view json_text, std::string_view what) {
 
 size_t hash_combine(size_t seed, size_t v) { return seed ^ (v + 0x9e3779b97f4a7c15ULL + (seed << 6) + (seed >> 2)); }
 
-// Objects, animation and the mesh files they name (by size and time): what
-// the acceleration structure is built from.
+template <typename T>
+size_t hash_bytes(const std::vector<T>& values) {
+  return std::hash<std::string_view>{}(
+      std::string_view(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)));
+}
+
+// Objects, animation and the mesh files' triangles: what the acceleration
+// structure is built from. The triangles as read, not the files' sizes and
+// times: a file rewritten within the clock's granularity keeps its time, and
+// one that changes between its reading and a look at its time would pair
+// the new time with the old triangles. (Hashing is far cheaper than reading.)
 size_t compute_geometry_key(const Json& document, const glint::Scene& scene) {
   size_t key = 0;
   if (auto it = document.find("objects"); it != document.end()) key = std::hash<std::string>{}(it->dump());
   if (auto it = document.find("animation"); it != document.end())
     key = hash_combine(key, std::hash<std::string>{}(it->dump()));
   for (const Mesh& mesh : scene.meshes) {
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(mesh.file, ec);
-    const auto time = std::filesystem::last_write_time(mesh.file, ec).time_since_epoch().count();
     key = hash_combine(key, std::hash<std::string>{}(mesh.file));
-    key = hash_combine(key, static_cast<size_t>(size));
-    key = hash_combine(key, static_cast<size_t>(time));
+    key = hash_combine(key, hash_bytes(mesh.positions));
+    key = hash_combine(key, hash_bytes(mesh.indices));
   }
   return key;
 }
 
 std::shared_ptr<const Scene::State> make_state(Json document, glint::Scene scene, std::filesystem::path base_dir,
-                                               std::string name) {
+                                               std::string name, std::shared_ptr<FileCache> files) {
   auto state = std::make_shared<Scene::State>();
+  state->files = std::move(files);
   state->geometry_key = compute_geometry_key(document, scene);
   state->document = std::move(document);
   state->scene = std::make_shared<const glint::Scene>(std::move(scene));
@@ -136,36 +143,43 @@ std::shared_ptr<const Scene::State> make_state(Json document, glint::Scene scene
 // the user never saw, so they keep the path and the problem only.
 glint::Scene check(const Json& document, const Scene::State& from) {
   try {
-    return parse_scene(document.dump(), from.name, from.base_dir);
+    return parse_scene(document.dump(), from.name, from.base_dir, default_memory_budget(), from.files.get());
   } catch (const Error& e) {
     if (e.path().empty() || e.message().size() < e.path().size() + 2) throw Error(SourceLocation{from.name, 0, 0}, e.message());
     throw Error(SourceLocation{from.name, 0, 0}, e.path(), e.message().substr(e.path().size() + 2));
   }
 }
 
+Scene from_json_with(std::string_view json_text, const std::filesystem::path& base_dir, std::string_view name,
+                     std::shared_ptr<FileCache> files) {
+  glint::Scene scene = parse_scene(std::string(json_text), std::string(name), base_dir, default_memory_budget(), files.get());
+  std::string_view text = json_text;
+  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  Json document = Json::parse(text.begin(), text.end());
+  return Scene(make_state(std::move(document), std::move(scene), base_dir, std::string(name), std::move(files)));
+}
+
 }  // namespace
 
-Scene Scene::load(const std::filesystem::path& path) {
+Scene load_scene_with(const std::filesystem::path& path, std::shared_ptr<FileCache> files) {
   // A bare mesh file: its framing scene is the document (io/mesh_scene.h).
-  if (is_mesh_file(path)) return from_json(mesh_scene_json(path), path.parent_path(), path.string());
-  glint::Scene scene = load_scene(path);  // every check, with file:line:col
+  if (is_mesh_file(path)) return from_json_with(mesh_scene_json(path), path.parent_path(), path.string(), std::move(files));
+  glint::Scene scene = load_scene(path, files.get());  // every check, with file:line:col
   if (is_nff_path(path)) {
     // An NFF file's document is the glint JSON its reader makes (docs/nff.md).
     Json document = read_nff_file(path).document;
-    return Scene(make_state(std::move(document), std::move(scene), path.parent_path(), path.string()));
+    return Scene(make_state(std::move(document), std::move(scene), path.parent_path(), path.string(), std::move(files)));
   }
   const std::vector<unsigned char> bytes = read_file(path);
   size_t skip = bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF ? 3 : 0;
   Json document = Json::parse(bytes.begin() + static_cast<std::ptrdiff_t>(skip), bytes.end());
-  return Scene(make_state(std::move(document), std::move(scene), path.parent_path(), path.string()));
+  return Scene(make_state(std::move(document), std::move(scene), path.parent_path(), path.string(), std::move(files)));
 }
 
+Scene Scene::load(const std::filesystem::path& path) { return load_scene_with(path, nullptr); }
+
 Scene Scene::from_json(std::string_view json_text, const std::filesystem::path& base_dir, std::string_view name) {
-  glint::Scene scene = parse_scene(std::string(json_text), std::string(name), base_dir);
-  std::string_view text = json_text;
-  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-  Json document = Json::parse(text.begin(), text.end());
-  return Scene(make_state(std::move(document), std::move(scene), base_dir, std::string(name)));
+  return from_json_with(json_text, base_dir, name, nullptr);
 }
 
 std::string Scene::to_json(int indent) const { return state_->document.dump(indent); }
@@ -192,7 +206,7 @@ std::shared_ptr<const Scene::State> edited(const Scene::State& from, const std::
   Json document = from.document;
   edit(document);
   glint::Scene scene = check(document, from);
-  return make_state(std::move(document), std::move(scene), from.base_dir, from.name);
+  return make_state(std::move(document), std::move(scene), from.base_dir, from.name, from.files);
 }
 
 void set_value(Json& document, std::string_view path, Json value) {

@@ -19,6 +19,7 @@
 #include "glint/geometry/polygon.h"
 #include "glint/io/json.h"
 #include "glint/io/memory_limit.h"
+#include "glint/io/file_cache.h"
 #include "glint/io/mesh_file.h"
 #include "glint/io/nff_file.h"
 #include "glint/io/mesh_scene.h"
@@ -123,8 +124,8 @@ class Path {
 class SceneReader {
  public:
   SceneReader(const json::Document& doc, std::filesystem::path base_dir,
-              size_t memory_budget = default_memory_budget())
-      : doc_(doc), base_dir_(std::move(base_dir)), memory_budget_(memory_budget) {}
+              size_t memory_budget = default_memory_budget(), FileCache* files = nullptr)
+      : doc_(doc), base_dir_(std::move(base_dir)), memory_budget_(memory_budget), files_(files) {}
 
   // With `errors`, problems are collected (one per material, light, object
   // or section) and reading goes on; without, the first one is thrown.
@@ -500,7 +501,7 @@ class SceneReader {
   uint32_t texture_image(const std::filesystem::path& file) {
     const std::string key = file_key(file);
     if (auto it = texture_image_index_.find(key); it != texture_image_index_.end()) return it->second;
-    scene_.texture_images.push_back(load_texture_image(file));
+    scene_.texture_images.push_back(files_ ? *files_->texture(file) : load_texture_image(file));
     const auto index = static_cast<uint32_t>(scene_.texture_images.size() - 1);
     texture_image_index_[key] = index;
     return index;
@@ -674,7 +675,9 @@ class SceneReader {
       fail(v, path, "mesh file " + quote_text(file.string()) + " is a directory");
     if (!std::filesystem::is_regular_file(file, ec))
       fail(v, path, "mesh file " + quote_text(file.string()) + " is not a regular file (a device or a pipe)");
-    MeshFile loaded = load_mesh_file(file, memory_budget_, smooth_mesh_files_.count(cache_key) > 0);
+    const bool vertex_normals = smooth_mesh_files_.count(cache_key) > 0;
+    MeshFile loaded = files_ ? *files_->mesh(file, memory_budget_, vertex_normals)
+                             : load_mesh_file(file, memory_budget_, vertex_normals);
     for (std::string& w : loaded.warnings) scene_.warnings.push_back(std::move(w));
     // The file's textures join the scene's; one that cannot be read is a
     // warning and its material keeps its color (the contract: defaults used).
@@ -1146,6 +1149,7 @@ class SceneReader {
   std::set<std::string> smooth_mesh_files_;      // canonical paths some object shades smoothly
   std::map<std::string, uint32_t> texture_image_index_;  // canonical path -> Scene::texture_images
   size_t memory_budget_;
+  FileCache* files_;  // or nullptr: read every file
   size_t mesh_vertices_ = 0, mesh_triangles_ = 0;  // of every mesh file loaded
   Scene scene_;
   std::map<std::string, uint32_t, std::less<>> material_index_;
@@ -1178,10 +1182,10 @@ void check_image_size(int width, int height, const SourceLocation& where) {
 }
 
 Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir,
-                  size_t memory_budget) {
+                  size_t memory_budget, FileCache* files) {
   const json::Document doc = json::parse(std::move(text), filename);
   try {
-    return SceneReader(doc, base_dir, memory_budget).read();
+    return SceneReader(doc, base_dir, memory_budget, files).read();
   } catch (const std::bad_alloc&) {
     throw Error(SourceLocation{filename, 0, 0}, "out of memory while loading the scene");
   }
@@ -1192,12 +1196,12 @@ namespace {
 // An NFF file (docs/scene-format.md, "NFF scenes") goes through the JSON
 // loader as the document nff_file.h makes of it, so both formats get the same
 // checks; whatever the loader finds is reported at the NFF entity behind it.
-Scene load_nff_scene(const std::filesystem::path& path) {
+Scene load_nff_scene(const std::filesystem::path& path, FileCache* files) {
   const NffScene nff = read_nff_file(path);
   NffJsonText json = nff_json_text(nff);
   Scene scene;
   try {
-    scene = parse_scene(std::move(json.text), path.string(), path.parent_path());
+    scene = parse_scene(std::move(json.text), path.string(), path.parent_path(), default_memory_budget(), files);
   } catch (const Error& e) {
     throw nff_error(nff, json, e);
   }
@@ -1243,13 +1247,14 @@ std::vector<Error> validate_scene(const std::filesystem::path& path) {
   return errors;
 }
 
-Scene load_scene(const std::filesystem::path& path) {
-  if (is_nff_path(path)) return load_nff_scene(path);
+Scene load_scene(const std::filesystem::path& path, FileCache* files) {
+  if (is_nff_path(path)) return load_nff_scene(path, files);
   // A bare mesh file is framed by a fixed rig (io/mesh_scene.h).
-  if (is_mesh_file(path)) return parse_scene(mesh_scene_json(path), path.string(), path.parent_path());
+  if (is_mesh_file(path))
+    return parse_scene(mesh_scene_json(path), path.string(), path.parent_path(), default_memory_budget(), files);
   const json::Document doc = json::parse_file(path.string());
   try {
-    return SceneReader(doc, path.parent_path()).read();
+    return SceneReader(doc, path.parent_path(), default_memory_budget(), files).read();
   } catch (const std::bad_alloc&) {
     throw Error(SourceLocation{path.string(), 0, 0}, "out of memory while loading the scene");
   }

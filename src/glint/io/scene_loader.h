@@ -16,8 +16,11 @@
 
 namespace glint {
 
+class FileCache;
+
 // A path ending in .nff (any case) is read as an NFF file (docs/nff.md).
-Scene load_scene(const std::filesystem::path& path);
+// With `files`, mesh and texture files come from that cache (file_cache.h).
+Scene load_scene(const std::filesystem::path& path, FileCache* files = nullptr);
 
 // Every problem load_scene would find, in file order, without stopping at the
 // first (one per material, light, object or section; a JSON syntax error ends
@@ -26,7 +29,7 @@ std::vector<Error> validate_scene(const std::filesystem::path& path);
 // `filename` is what messages name; relative paths inside resolve against
 // base_dir. Mesh files, each alone and all together, must fit memory_budget.
 Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir = {},
-                  size_t memory_budget = default_memory_budget());
+                  size_t memory_budget = default_memory_budget(), FileCache* files = nullptr);
 
 // Limits the loader enforces beyond the contract, so no input can exhaust
 // memory or the stack; documented in docs/scene-format.md.
