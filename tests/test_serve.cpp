@@ -628,6 +628,12 @@ TEST_F(ServeServer, EditsReadNoFileAndTheWatcherReadsAChangedOne) {
   write(dir_ / "tri.mtl", "newmtl paint\nKd 0.9 0.1 0.1\n");
   ASSERT_TRUE(wait([&](const ServerStats& s) { return s.scene_version > version; }));
   EXPECT_EQ(server.stats().file_reads, 2u);
+  // Only a file the scene names changed, not the scene file: the unsaved
+  // edits stay (no conflict to resolve), over the new .mtl.
+  const Json after = state();
+  EXPECT_EQ(after["conflict"], false);
+  EXPECT_EQ(after["dirty"], true);
+  EXPECT_EQ(after["scene"]["materials"]["red"]["shininess"], 5);
   // The mesh by rename, as editors save.
   const uint64_t version2 = server.stats().scene_version;
   write(dir_ / ".tri.obj.tmp", "mtllib tri.mtl\nv -1 0 0\nv 1 0 0\nv 0 0.5 0\nusemtl paint\nf 1 2 3\n");

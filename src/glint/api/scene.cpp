@@ -217,6 +217,8 @@ void set_value(Json& document, std::string_view path, Json value) {
 
 }  // namespace
 
+Scene reread_files(const Scene& scene) { return Scene(edited(*scene.state(), [](Json&) {})); }
+
 void Scene::set_json(std::string_view path, std::string_view json_value) {
   Json value = parse_value(json_value, path);
   state_ = edited(*state_, [&](Json& d) { set_value(d, path, std::move(value)); });

@@ -28,4 +28,8 @@ struct Scene::State {
 // edits then re-read no file that has not changed).
 Scene load_scene_with(const std::filesystem::path& path, std::shared_ptr<FileCache> files);
 
+// The same document checked again, with its mesh and texture files as they
+// are now (from its cache where they have not changed).
+Scene reread_files(const Scene& scene);
+
 }  // namespace glint::api

@@ -556,10 +556,16 @@ void Server::Impl::reload(const std::vector<fs::path>& changed) {
     Scene fresh = api::load_scene_with(path, files);
     std::lock_guard lock(session.mutex);
     session.error_.clear();
-    if (!session.dirty_ || fresh.to_json() == session.scene_.to_json()) {
+    const std::string document = fresh.to_json();
+    if (!session.dirty_ || document == session.scene_.to_json()) {
       session.scene_ = fresh;
       session.dirty_ = false;
       session.conflict_.reset();
+    } else if (document == session.file_scene_.to_json()) {
+      // The scene file is as it was: a mesh or a texture changed. The edits
+      // stay, over the files as they are now.
+      session.scene_ = api::reread_files(session.scene_);
+      if (session.conflict_) session.conflict_ = fresh;
     } else {
       session.conflict_ = fresh;
     }
@@ -657,8 +663,10 @@ void Server::Impl::routes() {
     auto& from = redo ? session.redo_ : session.undo_;
     auto& to = redo ? session.undo_ : session.redo_;
     if (from.empty()) throw Error(redo ? "nothing to redo" : "nothing to undo");
+    // Its mesh and texture files as they are now, not as they were then.
+    Scene target = api::reread_files(from.back());
     to.push_back(session.scene_);
-    session.scene_ = from.back();
+    session.scene_ = std::move(target);
     from.pop_back();
     session.coalesce_key_.clear();
     session.dirty_ = session.scene_.to_json() != session.file_scene_.to_json();
