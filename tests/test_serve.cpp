@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -527,6 +528,77 @@ TEST_F(ServeServer, TabsBeyondTheLimitAreRefusedUntilOneCloses) {
   EXPECT_TRUE(accepted.read_until("event: state"));
   // The server still answers while its streams are open.
   EXPECT_EQ(get("/api/state").status, 200);
+}
+
+// The width and height a PNG says it has (its IHDR chunk).
+std::pair<int, int> png_size(const std::string& png) {
+  if (png.size() < 24 || png.compare(1, 3, "PNG") != 0) return {0, 0};
+  auto be32 = [&](size_t at) {
+    return static_cast<int>((static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
+                            (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]));
+  };
+  return {be32(16), be32(20)};
+}
+
+std::string png_of(const glint::api::Scene& scene, const glint::api::RenderOptions& options = {}) {
+  const glint::api::Renderer renderer(scene);
+  const auto bytes = glint::api::encode_image(renderer.render(options).image, "png");
+  return std::string(bytes.begin(), bytes.end());
+}
+
+TEST_F(ServeServer, ACoarseFrameFirstThenTheFullOne) {
+  Json doc = Json::parse(kScene);
+  doc["render"]["width"] = 480;
+  doc["render"]["height"] = 270;
+  doc["render"]["samples_per_pixel"] = 4;
+  write(scene_, doc.dump(2));
+  Server& server = start(scene_);
+  EventStream tab(port_, host_);
+  ASSERT_TRUE(wait([](const ServerStats& s) { return s.full_frames == 1 && !s.rendering; }));
+  EXPECT_EQ(server.stats().frames, 2u);
+  // Frame 1: about 40,000 pixels at 1 sample (the scale s = sqrt(480 * 270 / 40000) = 1.8).
+  const double s = std::sqrt(480.0 * 270.0 / 40000.0);
+  const int w = static_cast<int>(std::lround(480 / s)), h = static_cast<int>(std::lround(270 / s));
+  ASSERT_EQ(w, 267);
+  const glint::api::Scene scene = glint::api::Scene::load(scene_);
+  const Reply coarse = get("/frame/1.png");
+  ASSERT_EQ(coarse.status, 200);
+  EXPECT_EQ(png_size(coarse.body), std::make_pair(w, h));
+  glint::api::RenderOptions small;
+  small.width = w;
+  small.height = h;
+  small.samples_per_pixel = 1;
+  EXPECT_EQ(coarse.body, png_of(scene, small));
+  // Frame 2: the scene's size and samples, as glint render writes it.
+  const Reply full = get("/frame/2.png");
+  EXPECT_EQ(png_size(full.body), std::make_pair(480, 270));
+  EXPECT_EQ(full.body, png_of(scene));
+  // And its exact values.
+  const Reply pfm = get("/frame/2.pfm");
+  const glint::api::Renderer renderer(scene);
+  const auto expected = glint::api::encode_image(renderer.render({}).image, "pfm");
+  EXPECT_EQ(pfm.body, std::string(expected.begin(), expected.end()));
+  EXPECT_EQ(get("/frame/1.pfm").status, 404);  // a coarse frame has no exact values to give
+}
+
+TEST_F(ServeServer, ANewerEditCancelsTheRenderInFlight) {
+  Server& server = start(scene_);
+  EventStream tab(port_, host_);
+  ASSERT_TRUE(wait([](const ServerStats& s) { return s.full_frames == 1 && !s.rendering; }));
+  const uint64_t renders = server.stats().renders, full_frames = server.stats().full_frames;
+  // A frame that takes long (400 x 225 at 256 samples)...
+  ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"set","path":"render.width","value":400},
+    {"op":"set","path":"render.height","value":225},{"op":"set","path":"render.samples_per_pixel","value":256}]})").status,
+            200);
+  ASSERT_TRUE(wait([&](const ServerStats& s) { return s.rendering && s.renders > renders; }));
+  // ...and, while it renders, the next edit: that frame is never finished.
+  ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"set","path":"render.samples_per_pixel","value":1},
+    {"op":"set","path":"render.width","value":40}]})").status, 200);
+  const uint64_t version = server.stats().scene_version;
+  ASSERT_TRUE(wait([&](const ServerStats& s) { return s.full_frames > full_frames && !s.rendering; }));
+  EXPECT_EQ(server.stats().full_frames, full_frames + 1);
+  EXPECT_EQ(server.stats().scene_version, version);
+  EXPECT_EQ(png_size(get("/frame/" + std::to_string(server.stats().frames) + ".png").body), std::make_pair(40, 225));
 }
 
 // --- an idle server sleeps ---------------------------------------------------------

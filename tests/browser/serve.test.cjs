@@ -31,6 +31,7 @@ base.render.samples_per_pixel = 1;
 fs.writeFileSync(scenePath, JSON.stringify(base, null, 2));
 
 let server = null, url = null, context = null, page = null, userData = null;
+const pageRequests = [];  // every URL the first page asked for
 const serverOutput = [];
 
 function startServer(scene) {
@@ -69,6 +70,7 @@ before(async () => {
   });
   page = context.pages()[0] || (await context.newPage());
   page.on('dialog', (d) => d.accept());
+  page.on('request', (r) => pageRequests.push(r.url()));
   await page.goto(url + '/');
 });
 
@@ -277,6 +279,9 @@ test('the page shows the scene as glint render draws it', async () => {
   assert.equal(await diffWithPng(glintRender(scenePath)), 0);
   const title = await page.textContent('#file');
   assert.equal(title, 'scene.json');
+  // Everything the page needs comes from glint itself: no CDN, no network.
+  assert.ok(pageRequests.length >= 4, pageRequests.join(' '));
+  for (const r of pageRequests) assert.ok(r.startsWith(url + '/'), r);
 });
 
 test('the file stays the truth: in place, by rename, broken', async () => {
@@ -358,6 +363,36 @@ test('clicking a pixel shows the tree of glint explain --json and selects its ma
   const nDotL = expected.ray.hit.lights[1].n_dot_l;
   const row = await page.textContent('#tree tr[data-light="1"]');
   assert.ok(row.includes(String(+nDotL.toPrecision(6))), row);
+});
+
+test('undo, redo and reset by the keyboard and buttons; the downloads are the frame', async () => {
+  const edited = structuredClone(base);
+  edited.materials.red.shininess = 7;
+  const editedPng = glintRender(writeScene(edited, 'undo-edited.json'));
+  const filePng = glintRender(scenePath);
+  await page.locator('#frame').focus();
+  await page.keyboard.press('Control+z');
+  await settled(page, { 'scene.materials.red.shininess': base.materials.red.shininess, dirty: false, can_redo: true });
+  assert.equal(await diffWithPng(filePng), 0);
+  await page.keyboard.press('Control+Shift+z');
+  await settled(page, { 'scene.materials.red.shininess': 7, dirty: true, can_redo: false });
+  assert.equal(await diffWithPng(editedPng), 0);
+  await page.click('#reset');
+  await settled(page, { 'scene.materials.red.shininess': base.materials.red.shininess, dirty: false });
+  assert.equal(await diffWithPng(filePng), 0);
+  await page.click('#undo');  // the reset is a step too
+  await settled(page, { 'scene.materials.red.shininess': 7, dirty: true });
+  assert.equal(await diffWithPng(editedPng), 0);
+  // The download links: the frame on screen as PNG, its exact values as PFM,
+  // the files glint render writes, byte for byte.
+  const links = await page.evaluate(() => [document.getElementById('download-png').href, document.getElementById('download-pfm').href]);
+  const png = await page.evaluate((u) => fetch(u).then(async (r) => [r.headers.get('content-disposition'), [...new Uint8Array(await r.arrayBuffer())]]), links[0]);
+  assert.match(png[0], /attachment; filename="glint\.png"/);
+  assert.deepEqual(Buffer.from(png[1]), fs.readFileSync(editedPng));
+  const pfmFile = editedPng.replace(/\.png$/, '.pfm');
+  execFileSync(GLINT, ['render', path.join(work, 'undo-edited.json'), '-o', pfmFile, '-q']);
+  const pfm = await page.evaluate((u) => fetch(u).then(async (r) => [...new Uint8Array(await r.arrayBuffer())]), links[1]);
+  assert.deepEqual(Buffer.from(pfm), fs.readFileSync(pfmFile));
 });
 
 test('save over the file and as a new file: glint render gives the image on screen', async () => {
@@ -573,6 +608,31 @@ test('requests from elsewhere are refused', async () => {
   await other.close();
   const state = JSON.parse((await request('/api/state')).text);
   assert.notEqual(state.scene.render.max_depth, 1);
+});
+
+test('--host other than this machine: a warning, and its address', async () => {
+  const proc = spawn(GLINT, ['serve', scenePath, '--port', '0', '--host', '0.0.0.0', '--threads', '1'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let stderr = '';
+  proc.stderr.on('data', (d) => { stderr += d; });
+  const address = await new Promise((resolve, reject) => {
+    proc.on('exit', (code) => reject(new Error(`glint serve exited (${code}): ${stderr}`)));
+    readline.createInterface({ input: proc.stdout }).on('line', (line) => {
+      const m = /^glint serve: (http:\/\/\S+)\/$/.exec(line);
+      if (m) resolve(m[1]);
+    });
+  });
+  try {
+    assert.match(address, /^http:\/\/0\.0\.0\.0:\d+$/);
+    assert.match(stderr, /^warning: listening on 0\.0\.0\.0: anyone who can reach this address can see and edit the scene/);
+    // Reached by an address of this machine (an IP literal is never a rebinding name).
+    const port = new URL(address).port;
+    const r = await request('/api/state', { headers: { Host: `127.0.0.1:${port}` } }, `http://127.0.0.1:${port}`);
+    assert.equal(r.status, 200);
+    const refused = await request('/api/state', { headers: { Host: `rebind.example:${port}` } }, `http://127.0.0.1:${port}`);
+    assert.equal(refused.status, 403);
+  } finally {
+    assert.equal(await stopServer(proc), 0);
+  }
 });
 
 test('soak: random edits from two tabs keep memory flat and frames correct', async (t) => {
