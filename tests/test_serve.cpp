@@ -277,6 +277,10 @@ class ServeServer : public ServeFiles {
             {"can_undo", s["can_undo"]}, {"can_redo", s["can_redo"]},           {"view", s["view"]}};
   }
   bool wait(const std::function<bool(const ServerStats&)>& condition) { return server_->wait_until(condition, kBound); }
+  // The newest scene is on screen (a tab must be open for it to render).
+  bool settled() {
+    return wait([](const ServerStats& s) { return !s.rendering && s.full_frame_scene_version == s.scene_version; });
+  }
 
   std::unique_ptr<Server> server_;
   fs::path scene_;
@@ -692,8 +696,11 @@ TEST_F(ServeServer, EditsReadNoFileAndTheWatcherReadsAChangedOne) {
                            R"({"op":"set","path":"render.max_depth","value":2})",
                            R"({"op":"append","path":"objects","value":{"type":"mesh","file":"tri.obj","transform":{"translate":[1,0,0]}}})"})
     ASSERT_EQ(post("/api/edit", std::string("{\"edits\":[") + edit + "]}").status, 200) << edit;
-  ASSERT_TRUE(wait([](const ServerStats& s) { return !s.rendering; }));
+  ASSERT_TRUE(settled());
   EXPECT_EQ(server.stats().file_reads, 1u);
+  // The acceleration structure: built for the first frame and for the
+  // object added, kept for the rest.
+  EXPECT_EQ(server.stats().builds, 2);
   EXPECT_EQ(Json::parse(get("/api/state").body)["stats"]["file_reads"], 1);
   // The .mtl changes on disk: the watcher reloads, and the mesh (read with it) is read again.
   const uint64_t version = server.stats().scene_version;
@@ -706,13 +713,17 @@ TEST_F(ServeServer, EditsReadNoFileAndTheWatcherReadsAChangedOne) {
   EXPECT_EQ(after["conflict"], false);
   EXPECT_EQ(after["dirty"], true);
   EXPECT_EQ(after["scene"]["materials"]["red"]["shininess"], 5);
+  // New materials, the same triangles: no new acceleration structure.
+  ASSERT_TRUE(settled());
+  EXPECT_EQ(server.stats().builds, 2);
   // The mesh by rename, as editors save.
   const uint64_t version2 = server.stats().scene_version;
   write(dir_ / ".tri.obj.tmp", "mtllib tri.mtl\nv -1 0 0\nv 1 0 0\nv 0 0.5 0\nusemtl paint\nf 1 2 3\n");
   fs::rename(dir_ / ".tri.obj.tmp", dir_ / "tri.obj");
   ASSERT_TRUE(wait([&](const ServerStats& s) { return s.scene_version > version2; }));
   EXPECT_EQ(server.stats().file_reads, 3u);
-  ASSERT_TRUE(wait([](const ServerStats& s) { return !s.rendering; }));
+  ASSERT_TRUE(settled());
+  EXPECT_EQ(server.stats().builds, 3);
   // Without the meshes and back (undo): the file's own scene names the mesh,
   // so it stayed in the cache.
   ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"erase","path":"objects[3]"},{"op":"erase","path":"objects[2]"}]})").status, 200);

@@ -480,6 +480,7 @@ test('meshes and textures are read once; a changed one is read again and shown',
     p = await newPage(address);
     await settled(p);
     const look = () => p.evaluate(() => ({ reads: window.glintPreview.state.stats.file_reads,
+      builds: window.glintPreview.state.stats.builds,
       version: window.glintPreview.state.scene_version, scene: window.glintPreview.state.scene }));
     // torus.obj (with its .mtl), bricks.png, uv-grid.png.
     assert.equal((await look()).reads, 3);
@@ -494,6 +495,7 @@ test('meshes and textures are read once; a changed one is read again and shown',
     assert.notEqual(await canvasHash(p), first);
     let now = await look();
     assert.equal(now.reads, 3);
+    assert.equal(now.builds, 1);  // the prepared geometry kept
     // What glint render draws of the edited scene (beside the files it names).
     const edited = path.join(dir, 'expected.json');
     fs.writeFileSync(edited, JSON.stringify(now.scene));
@@ -506,6 +508,7 @@ test('meshes and textures are read once; a changed one is read again and shown',
     await settled(p, { dirty: true, conflict: false });
     now = await look();
     assert.equal(now.reads, 4);
+    assert.equal(now.builds, 1);  // new materials, the same triangles
     const afterMtl = await canvasHash(p);
     assert.equal(await diffWithPng(glintRender(edited), p), 0);
     // The mesh, renamed over by an editor: read again, the frame follows.
@@ -517,6 +520,7 @@ test('meshes and textures are read once; a changed one is read again and shown',
     await settled(p, { dirty: true });
     now = await look();
     assert.equal(now.reads, 5);
+    assert.equal(now.builds, 2);
     assert.notEqual(await canvasHash(p), afterMtl);
     assert.equal(await diffWithPng(glintRender(edited), p), 0);
     // A texture rewritten in place: read again, alone.

@@ -117,7 +117,9 @@ class Session {
   std::deque<Frame> frames_;     // the last few frames
   uint64_t frame_seq_ = 0;
   uint64_t full_frames_ = 0;
+  uint64_t full_frame_scene_version_ = 0;
   uint64_t renders_ = 0;
+  int builds_ = 0;               // acceleration structures built (the worker's Renderer)
   bool rendering_ = false;
   int streams_ = 0;              // open event streams (visible tabs)
   std::set<int> stream_wakers_;  // their eventfds: a stream sleeps in poll() on its own and its socket
@@ -176,7 +178,9 @@ class Session {
     s.renders = renders_;
     s.frames = frame_seq_;
     s.full_frames = full_frames_;
+    s.full_frame_scene_version = full_frame_scene_version_;
     s.file_reads = file_reads;
+    s.builds = builds_;
     return s;
   }
 
@@ -200,7 +204,8 @@ class Session {
     s["notice_seq"] = notice_seq_;
     s["can_overwrite"] = path_.extension() == ".json";
     s["stats"] = {{"tabs", stats.tabs},     {"renders", stats.renders},         {"frames", stats.frames},
-                  {"full_frames", stats.full_frames}, {"file_reads", stats.file_reads}};
+                  {"full_frames", stats.full_frames}, {"file_reads", stats.file_reads},
+                  {"builds", stats.builds}};
     return s;
   }
 };
@@ -239,7 +244,10 @@ class Worker {
     frame.tonemap = view_.tonemap;
     std::lock_guard lock(session_.mutex);
     frame.seq = ++session_.frame_seq_;
-    if (!frame.coarse) ++session_.full_frames_;
+    if (!frame.coarse) {
+      ++session_.full_frames_;
+      session_.full_frame_scene_version_ = frame.scene_version;
+    }
     session_.frames_.push_back(std::move(frame));
     while (session_.frames_.size() > 4) session_.frames_.pop_front();
     session_.notify();
@@ -344,6 +352,10 @@ class Worker {
     const auto start = std::chrono::steady_clock::now();
     api::RenderResult r = renderer_->render(options);
     if (!r.complete) return false;
+    {
+      std::lock_guard lock(session_.mutex);
+      session_.builds_ = r.stats.builds;
+    }
     auto linear = std::make_shared<const api::Image>(pass.empty() ? std::move(r.image) : std::move(r.passes.at(pass)));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     publish_full(*linear, version, scene_version, pass, wo, ms, linear);
