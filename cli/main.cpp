@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -497,7 +498,7 @@ int render_frame(const RenderArgs& args, glint::Scene scene, int frame,
   }
   if (tiles.done.empty()) {
     image = Image(r.width, r.height);
-    tiles = TileProgress(r.width, r.height, 16);
+    tiles = TileProgress(r.width, r.height, kTileSize);
     passes = PassImages(pass_list, r.width, r.height);
   }
 
@@ -597,7 +598,7 @@ int run_render_mpi(const RenderArgs& args);
 int run_render(const RenderArgs& args) {
   using namespace glint;
 #ifdef GLINT_HAVE_MPI
-  if (glint::mpi::launched()) return run_render_mpi(args);
+  if (glint::mpi::launched([](const char* name) { return std::getenv(name); })) return run_render_mpi(args);
 #endif
   return run_render_local(args);
 }
@@ -678,6 +679,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
     error = e.what();
   }
   const double rank_timeout = args.rank_timeout.value_or(mpi::kDefaultRankTimeout);
+  const auto faults = mpi::test_faults([](const char* name) { return std::getenv(name); });  // tests/mpi only
   const std::vector<int> failed = mpi::failed_ranks(error.empty());
   if (!failed.empty()) {
     // Rank 0 speaks for all when it failed too (the same file, the same error).
@@ -714,7 +716,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
             throw Error(e.what);  // a signal (mpirun ending the job): the frame kept a resume file
           }
         },
-        rank_timeout, [&](int item) { return std::to_string(plan[todo[item]].first); });
+        rank_timeout, [&](int item) { return std::to_string(plan[todo[item]].first); }, faults);
     return 0;
   }
   if (args.passes || args.passes_layered || scene->render.adaptive) {
@@ -736,7 +738,7 @@ int run_render_distributed(const RenderArgs& args, const glint::mpi::Session& se
     const Scene& frame_scene = scene->animation.frames > 0 ? (moved = scene_at_frame(*scene, frame)) : *scene;
     const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
     mpi::DistributedStats stats;
-    const Image image = mpi::render_image(frame_scene, *accel, threads, 16, &stats, rank_timeout);
+    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout, faults);
     if (session.rank != 0) continue;
     write_image(image, output, light_options(args));
     if (args.quiet) continue;

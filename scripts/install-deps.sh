@@ -4,7 +4,7 @@
 # Extra package names given as arguments are checked too (scripts/fuzz.sh).
 set -euo pipefail
 PACKAGES=(
-  cmake ninja-build g++ pkg-config
+  cmake ninja-build g++ clang pkg-config
   nlohmann-json3-dev libstb-dev libpng-dev libtinyexr-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtinyobjloader-dev libassimp-dev libembree-dev

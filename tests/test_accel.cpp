@@ -344,6 +344,70 @@ TEST(MeshBvh, HugeOriginsWithAxisParallelRays) {
 
 // --- packets ----------------------------------------------------------------
 
+// --- the shadow cache ---------------------------------------------------------
+
+// Three unit spheres on the x axis (x = 0, 3, 6) and a floor plane under them.
+constexpr const char* kThreeSpheres = R"({
+  "render": {"width": 8, "height": 8},
+  "camera": {"position": [3, 2, 10], "look_at": [3, 0, 0], "fov_y": 50},
+  "lights": [{"type": "point", "position": [3, 5, 0]}],
+  "objects": [
+    {"type": "sphere", "center": [0, 0, 0], "radius": 1},
+    {"type": "sphere", "center": [3, 0, 0], "radius": 1},
+    {"type": "sphere", "center": [6, 0, 0], "radius": 1},
+    {"type": "plane", "point": [0, -2, 0], "normal": [0, 1, 0]}
+  ]
+})";
+
+Ray segment(const Vec3& from, const Vec3& to) {
+  Ray r = make_ray(from, to - from);
+  r.t_max = 1.0;
+  return r;
+}
+
+TEST(ShadowCache, AsksTheCachedBlockerFirstAndKeepsTheLastOne) {
+  const Scene scene = parse_scene(kThreeSpheres, "three.json");
+  const auto accel = build_accelerator(scene);
+  uint32_t cache = kNoShadowBlocker;
+  // Through the sphere at x = 3 (object 1), from above to below it.
+  EXPECT_TRUE(accel->occluded_cached(segment({3, 5, 0}, {3, -1.5, 0}), cache));
+  EXPECT_EQ(cache, 1u);
+  // The cached sphere is not in the way of this one (through x = 6): the
+  // traversal finds object 2, which becomes the cached blocker.
+  EXPECT_TRUE(accel->occluded_cached(segment({6, 5, 0}, {6, -1.5, 0}), cache));
+  EXPECT_EQ(cache, 2u);
+  // Nothing in the way (between the spheres, stopping above the floor): the cache stays.
+  EXPECT_FALSE(accel->occluded_cached(segment({1.5, 5, 0}, {1.5, -1.5, 0}), cache));
+  EXPECT_EQ(cache, 2u);
+  // The floor plane blocks too (object 3); an index past the objects is ignored.
+  cache = 99;
+  EXPECT_TRUE(accel->occluded_cached(segment({1.5, 5, 0}, {1.5, -3, 0}), cache));
+  EXPECT_EQ(cache, 3u);
+}
+
+TEST(ShadowCache, SameAnswersAsOccludedWhateverIsCached) {
+  const Scene scene = parse_scene(kThreeSpheres, "three.json");
+  const auto accel = build_accelerator(scene);
+  Rng rng(7);
+  int blocked = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 from(rng.next_double() * 10 - 2, rng.next_double() * 6 - 2.5, rng.next_double() * 4 - 2);
+    const Vec3 to(rng.next_double() * 10 - 2, rng.next_double() * 6 - 2.5, rng.next_double() * 4 - 2);
+    const Ray r = segment(from, to);
+    const bool want = accel->occluded(r);
+    blocked += want;
+    for (uint32_t c : {kNoShadowBlocker, 0u, 1u, 2u, 3u}) {
+      uint32_t cache = c;
+      EXPECT_EQ(accel->occluded_cached(r, cache), want) << "ray " << i << " cache " << c;
+      if (want && c == kNoShadowBlocker) {
+        EXPECT_EQ(cache, *accel->first_blocker(r));
+      }
+    }
+  }
+  EXPECT_GT(blocked, 200);  // both answers are exercised
+  EXPECT_LT(blocked, 1800);
+}
+
 TEST(Packets, SameHitsAsSingleRays) {
   Scene scene;
   Mesh sphere = icosphere(4, 1.0);  // 5120 triangles

@@ -21,6 +21,7 @@
 #include "glint/io/json.h"
 #include "glint/io/mesh_file.h"
 #include "glint/io/scene_loader.h"
+#include "needs_assimp.h"
 
 namespace glint {
 namespace {
@@ -187,12 +188,14 @@ std::string mesh_error(const std::string& name) {
 // fuzz_mesh_ply: a PLY header with two format lines reached assimp, which
 // leaked; it is now refused by our header check.
 TEST(FuzzRegressions, PlyWithTwoFormatLinesIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   EXPECT_NE(mesh_error("ply-two-format-lines.ply").find("more than one format line"), std::string::npos);
 }
 
 // fuzz_mesh_ply: a header with two 'face' elements (a damaged header line
 // turned the rest into a second copy) made assimp leak the first face list.
 TEST(FuzzRegressions, PlyWithARepeatedElementIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   const std::string e = mesh_error("ply-two-face-elements.ply");
   EXPECT_NE(e.find(":13:9: PLY element 'face' declared twice (first on line 7)"), std::string::npos) << e;
 }
@@ -201,6 +204,7 @@ TEST(FuzzRegressions, PlyWithARepeatedElementIsRefused) {
 // the faces it had built; every accessor now needs a valid componentType
 // and type (both required by the glTF specification).
 TEST(FuzzRegressions, GltfAccessorWithoutComponentTypeIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   const std::string e = mesh_error("glb-accessor-without-component-type.glb");
   EXPECT_NE(e.find(".glb: accessors[1]: needs a componentType of 5120"), std::string::npos) << e;
 }
@@ -210,6 +214,7 @@ TEST(FuzzRegressions, GltfAccessorWithoutComponentTypeIsRefused) {
 // (with animations, morph targets, cameras and unused vertex attributes) no
 // longer reach assimp: glint ignores them, so the mesh loads.
 TEST(FuzzRegressions, GltfSkinWithoutInverseBindMatricesLoadsWithoutTheSkin) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   EXPECT_EQ(mesh_error("gltf-skin-without-inverse-bind-matrices.gltf"), "");
   EXPECT_EQ(load_mesh_file(kFuzzDir / "regressions/mesh/gltf-skin-without-inverse-bind-matrices.gltf").triangle_count(),
             8u);  // its index accessor counts 24
@@ -219,6 +224,7 @@ TEST(FuzzRegressions, GltfSkinWithoutInverseBindMatricesLoadsWithoutTheSkin) {
 // dereference null (and one whose count its buffer views cannot hold made
 // it read past the buffer); sparse accessors are checked whole first.
 TEST(FuzzRegressions, GltfSparseAccessorWithoutIndicesIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   const std::string e = mesh_error("gltf-sparse-without-indices.gltf");
   EXPECT_NE(e.find(".gltf:1:238: accessors[0].sparse: needs 'indices' and 'values' objects"), std::string::npos)
       << e;
@@ -228,6 +234,7 @@ TEST(FuzzRegressions, GltfSparseAccessorWithoutIndicesIsRefused) {
 // declares (and garbage among them): glint's walk read the line's first six,
 // assimp reads values as one stream, met the garbage and leaked.
 TEST(FuzzRegressions, PlyLineWithExtraValuesIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   const std::string e = mesh_error("ply-extra-values-on-a-line.ply");
   EXPECT_NE(e.find(":17:13: vertex 1: more values on the line than the header declares"), std::string::npos) << e;
 }
@@ -236,6 +243,7 @@ TEST(FuzzRegressions, PlyLineWithExtraValuesIsRefused) {
 // reaching past the view: assimp checks count x element size only, reads
 // the strided indices one by one, throws half-way and leaks the faces.
 TEST(FuzzRegressions, GltfAccessorBeyondItsStridedViewIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   const std::string e = mesh_error("glb-indices-beyond-their-strided-view.glb");
   EXPECT_NE(e.find(".glb: accessors[1]: 36 elements need 424 bytes of buffer view 0, which has 288"), std::string::npos)
       << e;
@@ -245,6 +253,7 @@ TEST(FuzzRegressions, GltfAccessorBeyondItsStridedViewIsRefused) {
 // made assimp 5.2 dereference null (in Release too). Line loops reach it as
 // line strips now (glint ignores lines), so the indices are the error.
 TEST(FuzzRegressions, GltfLineLoopWithIndicesOutOfRangeIsAnError) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   const std::string e = mesh_error("glb-line-loop-indices-out-of-range.glb");
   EXPECT_NE(e.find(".glb: face with a vertex index out of range"), std::string::npos) << e;
 }
@@ -254,6 +263,7 @@ TEST(FuzzRegressions, GltfLineLoopWithIndicesOutOfRangeIsAnError) {
 // one index, a fan of two) or wrap the face count to 2^64 and fail to
 // allocate (a strip of one). Such primitives are refused first.
 TEST(FuzzRegressions, GltfPrimitivesWithTooFewIndicesAreRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   EXPECT_NE(mesh_error("gltf-strip-with-one-index.gltf")
                 .find(".gltf:1:270: meshes[0].primitives[0]: 1 indices are too few for mode 5 (at least 3)"),
             std::string::npos);
@@ -266,6 +276,7 @@ TEST(FuzzRegressions, GltfPrimitivesWithTooFewIndicesAreRefused) {
 // fuzz_mesh_glb: a TRIANGLE_STRIP primitive without attributes (the key was
 // damaged): assimp computed 0 - 2 faces and tried to allocate 64 GiB.
 TEST(FuzzRegressions, GltfStripWithoutPositionsIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   const std::string e = mesh_error("glb-strip-without-attributes.glb");
   EXPECT_NE(e.find(".glb: meshes[0].primitives[0]: 0 vertices are too few for mode 5 (at least 3)"), std::string::npos)
       << e;
@@ -275,6 +286,7 @@ TEST(FuzzRegressions, GltfStripWithoutPositionsIsRefused) {
 // decoder threw and leaked its buffer. glint never decodes images, so a bad
 // one reaches assimp as 3 zero bytes and the mesh loads.
 TEST(FuzzRegressions, GltfImageWithBadBase64IsNotDecoded) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   EXPECT_EQ(mesh_error("gltf-image-with-bad-base64.gltf"), "");
 }
 
@@ -284,6 +296,7 @@ TEST(FuzzRegressions, GltfImageWithBadBase64IsNotDecoded) {
 // buffer view with such a "mimeType" (by hand). glint never reads embedded
 // images: they reach assimp as the same 3 zero bytes, and the mesh loads.
 TEST(FuzzRegressions, GltfImageMediaTypeWithoutSlashLoads) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   for (const char* name : {"gltf-image-media-type-without-slash.gltf", "gltf-image-mime-type-without-slash.gltf",
                            "gltf-image-data-uri-long-header.gltf"}) {
     SCOPED_TRACE(name);
@@ -299,6 +312,7 @@ TEST(FuzzRegressions, GltfImageMediaTypeWithoutSlashLoads) {
 // byte 0x10 counted as parsed already (a 2^62-byte allocation). Buffers'
 // URIs are checked for both.
 TEST(FuzzRegressions, GltfBufferDataUriAssimpWouldMisreadIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   std::string e = mesh_error("gltf-buffer-data-uri-long-header.gltf");
   EXPECT_NE(e.find("buffers[0].uri: a data URI whose header (before the first ',') is longer than 126 bytes"),
             std::string::npos)

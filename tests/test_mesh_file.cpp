@@ -18,6 +18,7 @@
 
 #include "glint/error.h"
 #include "glint/io/mesh_file.h"
+#include "needs_assimp.h"
 
 namespace glint {
 namespace {
@@ -339,6 +340,7 @@ TEST(MeshFileNormals, OppositeFacesOnOneVertexFallBackToTheFaceNormal) {
 }
 
 TEST(MeshFileNormals, DegenerateTrianglesDroppedWithOneCountedWarning) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   const fs::path path = fixture("degenerate.obj");
   const MeshFile m = load_mesh_file(path);
   ASSERT_EQ(m.triangle_count(), 2u);
@@ -387,15 +389,38 @@ void expect_quad_normals_mesh(const MeshFile& m) {
   EXPECT_TRUE(m.warnings.empty());
 }
 
-TEST(MeshFilePly, AsciiWithNormalsAndAQuad) { expect_quad_normals_mesh(load_mesh_file(fixture("quad_normals.ply"))); }
+// Built without assimp (GLINT_ASSIMP off), PLY and glTF files are refused
+// with one clear message naming the file, before they are read; OBJ always works.
+TEST(MeshFileSupport, PlyAndGltfNeedAssimp) {
+  EXPECT_EQ(missing_mesh_support("a.obj"), "");
+  const std::string missing = missing_mesh_support("a.ply");
+  for (const char* name : {"b.PLY", "c.gltf", "d.glb"}) EXPECT_EQ(missing_mesh_support(name), missing) << name;
+  if (missing.empty()) GTEST_SKIP() << "built with assimp: PLY and glTF meshes are read";
+  EXPECT_EQ(missing, "this glint was built without assimp: PLY and glTF meshes are not available");
+  const fs::path ply = fixture("quad_normals.ply");
+  try {
+    load_mesh_file(ply);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.message(), missing);
+    EXPECT_EQ(e.location().file, ply.string());
+  }
+}
+
+TEST(MeshFilePly, AsciiWithNormalsAndAQuad) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
+  expect_quad_normals_mesh(load_mesh_file(fixture("quad_normals.ply")));
+}
 
 TEST(MeshFilePly, BinaryLittleAndBigEndianMatchAscii) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   expect_quad_normals_mesh(load_mesh_file(dir.write("le.ply", binary_ply(false))));
   expect_quad_normals_mesh(load_mesh_file(dir.write("be.ply", binary_ply(true))));
 }
 
 TEST(MeshFilePly, WithoutNormalsTheyAreComputed) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   const MeshFile m = load_mesh_file(dir.write(
       "plain.ply",
@@ -406,6 +431,7 @@ TEST(MeshFilePly, WithoutNormalsTheyAreComputed) {
 }
 
 TEST(MeshFilePly, FacesOfFewerThanThreeVerticesAreSkippedWithAWarning) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   const fs::path p = dir.write(
       "short.ply",
@@ -440,9 +466,13 @@ void expect_triangle_gltf(const MeshFile& m) {
   for (const Vec3f& n : m.corner_normals) expect_vec(n, 0, 0, 1);
 }
 
-TEST(MeshFileGltf, NodesPlaceTheMeshAndMaterialsMap) { expect_triangle_gltf(load_mesh_file(fixture("triangle.gltf"))); }
+TEST(MeshFileGltf, NodesPlaceTheMeshAndMaterialsMap) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
+  expect_triangle_gltf(load_mesh_file(fixture("triangle.gltf")));
+}
 
 TEST(MeshFileGltf, BinaryGlb) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   // triangle.gltf's JSON with its data moved into a GLB's BIN chunk.
   std::ifstream in(fixture("triangle.gltf"));
   std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -476,6 +506,7 @@ TEST(MeshFileErrors, MissingFileDirectoryAndUnsupportedFormat) {
 }
 
 TEST(MeshFileErrors, EmptyFiles) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   expect_error(dir.write("empty.obj", ""), "empty file");
   expect_error(dir.write("blank.obj", "\n  \n\t\n"), "empty file");
@@ -484,6 +515,7 @@ TEST(MeshFileErrors, EmptyFiles) {
 }
 
 TEST(MeshFileErrors, NoTriangles) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   expect_error(dir.write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1 2 3\n"), "no triangles (only points or lines)");
   expect_error(dir.write("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n"), "no triangles (only points or lines)");
@@ -497,6 +529,7 @@ TEST(MeshFileErrors, NoTriangles) {
 }
 
 TEST(MeshFileErrors, NotAMeshFile) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   expect_error(dir.write("image.obj", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16)),
                "not a Wavefront OBJ file (binary content)");
@@ -618,6 +651,7 @@ const std::string kPlyHead =
     "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
 
 TEST(MeshFileErrors, PlyAsciiBadData) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   expect_error(dir.write("index.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
                "vertex index 3 out of range (3 vertices)", 13, 7);
@@ -641,6 +675,7 @@ TEST(MeshFileErrors, PlyAsciiBadData) {
 }
 
 TEST(MeshFileErrors, PlyBadHeaders) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   expect_error(dir.write("noend.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"), "no end_header");
   expect_error(dir.write("noformat.ply", "ply\nelement vertex 0\nend_header\n"), "no format line");
@@ -657,6 +692,7 @@ TEST(MeshFileErrors, PlyBadHeaders) {
 }
 
 TEST(MeshFileErrors, PlyAbsurdCountsAreRefusedBeforeAllocating) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   // Counts that would fit in memory but not in the file (claims beyond
   // memory are refused earlier: MeshFileLimits below).
@@ -674,6 +710,7 @@ TEST(MeshFileErrors, PlyAbsurdCountsAreRefusedBeforeAllocating) {
 }
 
 TEST(MeshFileErrors, PlyBinaryTruncatedAtEveryByteIsAnError) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   const std::string whole = binary_ply(false);
   const size_t body = whole.find("end_header\n") + 11;
@@ -689,6 +726,7 @@ TEST(MeshFileErrors, PlyBinaryTruncatedAtEveryByteIsAnError) {
 }
 
 TEST(MeshFileErrors, PlyBinaryBadData) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   std::string index = binary_ply(false);
   index[index.size() - 4] = 7;  // the last index: 2 -> 7
@@ -711,6 +749,7 @@ std::pair<int, int> line_and_column(const std::string& text, size_t offset) {
 }
 
 TEST(MeshFileErrors, GltfBrokenData) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   std::ifstream in(fixture("triangle.gltf"));
   const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -762,6 +801,7 @@ std::string message_for(const fs::path& path, size_t budget) {
 }
 
 TEST(MeshFileLimits, PlyHeaderClaimingMoreThanHalfOfMemoryIsRefusedUpFront) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_IF_MEMORY_ABOVE(4e9 * kBytesPerVertex);
   TempDir dir;
   // A 150-byte file whose header claims 4e9 vertices: refused before assimp
@@ -778,6 +818,7 @@ TEST(MeshFileLimits, PlyHeaderClaimingMoreThanHalfOfMemoryIsRefusedUpFront) {
 }
 
 TEST(MeshFileLimits, ExplicitBudgetRefusesWhatTheDefaultAllows) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   // 3 vertices and 10 faces (the same triangle): 3 * 24 + 10 * 100 = 1072
   // bytes by the estimate, in a file of about 250.
@@ -793,6 +834,7 @@ TEST(MeshFileLimits, ExplicitBudgetRefusesWhatTheDefaultAllows) {
 }
 
 TEST(MeshFileLimits, GltfAccessorCountBeyondMemoryIsRefusedAtTheCount) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_IF_MEMORY_ABOVE(4e9 * 12);
   TempDir dir;
   // The error is at the count's value: its line and column in the text.
@@ -813,6 +855,7 @@ TEST(MeshFileLimits, GltfAccessorCountBeyondMemoryIsRefusedAtTheCount) {
 }
 
 TEST(MeshFileLimits, GltfInstancesCountAgainstTheBudget) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   // triangle.gltf's mesh placed by 20 nodes.
   std::string gltf = slurp(fixture("triangle.gltf"));
   std::string nodes, refs;
@@ -837,6 +880,7 @@ TEST(MeshFileLimits, GltfInstancesCountAgainstTheBudget) {
 }
 
 TEST(MeshFileLimits, GlbJsonChunkIsCheckedToo) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_IF_MEMORY_ABOVE(4e9 * 12);
   TempDir dir;
   std::string glb = slurp(fs::path(GLINT_SOURCE_DIR) / "fuzz/corpus/glb/triangle.glb");
@@ -880,6 +924,7 @@ TEST(MeshFileLimits, ObjTrianglesAreCheckedBeforeTheyAreBuilt) {
 }
 
 TEST(MeshFileLimits, GltfBufferLengthBeyondTheBudgetIsRefused) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   const fs::path p = dir.write("t.gltf", slurp(fixture("triangle.gltf")));
   EXPECT_EQ(message_for(p, 10000), "");
@@ -890,6 +935,7 @@ TEST(MeshFileLimits, GltfBufferLengthBeyondTheBudgetIsRefused) {
 }
 
 TEST(MeshFileLimits, FilesLargerThanTheBudgetAreNotRead) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   // A cube behind a long comment: more file than mesh.
   const fs::path cube = dir.write("cube.obj", "# " + std::string(4000, '-') + "\n" + slurp(fixture("cube.obj")));
@@ -912,6 +958,7 @@ TEST(MeshFileLimits, DevicesAreNotMeshFiles) {
 // Random damage to valid files of every format: the loader either reads the
 // result or throws glint::Error; nothing else escapes and nothing crashes.
 TEST(MeshFileErrors, DamagedFilesOnlyEverThrowGlintErrors) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   const std::vector<std::pair<std::string, std::string>> originals = {
       {"m.obj", slurp(fixture("normals.obj"))},    {"q.obj", slurp(fixture("quads.obj"))},

@@ -16,6 +16,7 @@
 
 #include "glint/error.h"
 #include "glint/io/mesh_file.h"
+#include "needs_assimp.h"
 
 namespace glint {
 namespace {
@@ -51,6 +52,7 @@ const Model kGoodModels[] = {
 };
 
 TEST(MeshRealWorld, GoodModelsLoadWithTheirTriangleCounts) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_WITHOUT_TESTMODELS();
   for (const Model& model : kGoodModels) {
     SCOPED_TRACE(model.path);
@@ -78,6 +80,7 @@ const BrokenModel kBrokenModels[] = {
 };
 
 TEST(MeshRealWorld, BrokenGltfModelsGiveOneClearErrorNamingTheFile) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_WITHOUT_TESTMODELS();
   for (const BrokenModel& model : kBrokenModels) {
     SCOPED_TRACE(model.path);
@@ -104,6 +107,7 @@ int run(const std::string& command, std::string& out) {
 }
 
 TEST(MeshRealWorld, CliRefusesScenesWithBrokenModelsWithOneErrorLine) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   SKIP_WITHOUT_TESTMODELS();
   const fs::path dir = fs::temp_directory_path() / ("glint-realworld-" + std::to_string(::getpid()));
   fs::create_directories(dir);

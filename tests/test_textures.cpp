@@ -23,6 +23,7 @@
 #include "glint/render/explain.h"
 #include "glint/render/renderer.h"
 #include "glint/render/texture.h"
+#include "needs_assimp.h"
 
 namespace glint {
 namespace {
@@ -397,6 +398,7 @@ TEST(TextureUV, MeshWithoutUVsStoresNone) {
 }
 
 TEST(TextureUV, PlyUV) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
   dir.write("t.ply",
             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
@@ -415,6 +417,7 @@ TEST(TextureUV, PlyUV) {
 }
 
 TEST(TextureUV, GltfTexcoordsAndBaseColorTexture) {
+  GLINT_SKIP_WITHOUT_ASSIMP();
   // glTF puts uv (0, 0) at the image's top left; glint's v grows upward, so
   // the file's (0,0), (1,0), (0,1) read as (0,1), (1,1), (0,0).
   const fs::path file = fs::path(GLINT_SOURCE_DIR) / "tests" / "meshes" / "textured.gltf";

@@ -258,6 +258,17 @@ class BvhAccelerator final : public Accelerator {
 
   bool occluded(const Ray& ray) const override { return first_blocker(ray).has_value(); }
 
+  bool occluded_cached(const Ray& ray, uint32_t& cache) const override {
+    // Any blocker answers an any-hit query, so the cached one, when it
+    // blocks, gives the same answer as the traversal.
+    if (cache != kNoShadowBlocker && cache < scene_.objects.size() &&
+        occludes_object(scene_, cache, ray, &mesh_bvhs_))
+      return true;
+    const std::optional<uint32_t> blocker = first_blocker(ray);
+    if (blocker) cache = *blocker;
+    return blocker.has_value();
+  }
+
   std::optional<uint32_t> first_blocker(const Ray& ray) const override {
     for (uint32_t p : planes_)
       if (occludes_object(scene_, p, ray)) return p;

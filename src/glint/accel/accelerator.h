@@ -50,6 +50,9 @@ bool intersect_object(const Scene& scene, uint32_t object, const Ray& ray, Hit& 
 bool occludes_object(const Scene& scene, uint32_t object, const Ray& ray,
                      const std::vector<MeshBvh>* mesh_bvhs = nullptr);
 
+// No object: an empty slot of the shadow cache (occluded_cached).
+inline constexpr uint32_t kNoShadowBlocker = ~0u;
+
 class Accelerator {
  public:
   virtual ~Accelerator() = default;
@@ -64,6 +67,10 @@ class Accelerator {
   }
   // The object hit first by an any-hit query, for tools that name a blocker.
   virtual std::optional<uint32_t> first_blocker(const Ray& ray) const = 0;
+  // occluded(ray), asking object `cache` first when it is not
+  // kNoShadowBlocker, and setting `cache` to the blocker found otherwise:
+  // the same answer, sooner when rays in a row are blocked by one object.
+  virtual bool occluded_cached(const Ray& ray, uint32_t& /*cache*/) const { return occluded(ray); }
   // Bytes held by the acceleration structure itself (not the scene).
   virtual size_t memory_bytes() const = 0;
 };
@@ -71,7 +78,7 @@ class Accelerator {
 // Which traversal kernel answers the queries: our BVH, or Intel Embree (when
 // glint was built with it). Both give the same hits up to float ties: Embree's
 // float hits on mesh triangles are refined in double by our triangle test.
-// Ours is the default: it measured faster end to end (README, Performance).
+// Ours is the default: it measured faster end to end (docs/performance.md).
 enum class AccelBackend { bvh, embree };
 
 struct AcceleratorOptions {

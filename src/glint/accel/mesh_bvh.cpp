@@ -330,9 +330,8 @@ static_assert(kPacketSize == 16, "the packet kernel's lanes are 16 rays");
 
 // A leaf reached by this many rays of a packet is tested triangle by
 // triangle against all of them at once; by fewer, ray by ray (four triangles
-// at once). On the 1M terrain of bench/ (a leaf covers about two pixels)
-// thresholds 4, 6 and 8 measured alike with 16-ray packets (2 to 5 alike
-// with 8-ray packets, and ray by ray always 5% slower).
+// at once). The threshold hardly matters (4 to 8 measure alike); testing
+// every leaf ray by ray is slower.
 constexpr int kLeafRaysForSimd = 4;
 
 int dominant_axis(float x, float y, float z) {

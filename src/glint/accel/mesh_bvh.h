@@ -34,8 +34,8 @@ MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options = {});
 
 // The nearest triangle hit in (ray.t_min, ray.t_max), in float: its index,
 // distance and where its vertices are (`slot` = block * 4 + lane in
-// MeshBvh::blocks, already in cache: reading them from the mesh again cost
-// 7% of a camera ray). False when none.
+// MeshBvh::blocks, already in cache, so shading need not read the mesh
+// again). False when none.
 bool intersect_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray, uint32_t& triangle, float& t, uint32_t& slot);
 // The vertices of lane `lane` of block `block`, as stored and in double.
 TriangleVertices block_vertices(const Triangle4& block, int lane);

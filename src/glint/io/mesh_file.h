@@ -52,6 +52,12 @@ struct MeshFile {
 MeshFile load_mesh_file(const std::filesystem::path& path, size_t memory_budget = default_memory_budget(),
                         bool vertex_normals = true);
 
+// Empty when this glint reads mesh files like `path` (by its extension);
+// otherwise why not, the message load_mesh_file gives for them: PLY and glTF
+// need assimp, which a build may leave out (GLINT_ASSIMP). For a scene
+// loader to report it where the file is named, and for tests to skip.
+std::string missing_mesh_support(const std::filesystem::path& path);
+
 // A mesh given as arrays (the scene format's inline mesh, a glint addition):
 // per-vertex `normals` and `uvs` (each empty or one per position), with the
 // same rules as a file whose every corner uses one index for its position,

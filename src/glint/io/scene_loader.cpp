@@ -675,6 +675,9 @@ class SceneReader {
       fail(v, path, "mesh file " + quote_text(file.string()) + " is a directory");
     if (!std::filesystem::is_regular_file(file, ec))
       fail(v, path, "mesh file " + quote_text(file.string()) + " is not a regular file (a device or a pipe)");
+    // A format this build leaves out (GLINT_ASSIMP=OFF) is refused at the key that names it.
+    if (const std::string missing = missing_mesh_support(file); !missing.empty())
+      fail(v, path, quote_text(file.string()) + ": " + missing);
     const bool vertex_normals = smooth_mesh_files_.count(cache_key) > 0;
     MeshFile loaded = files_ ? *files_->mesh(file, memory_budget_, vertex_normals)
                              : load_mesh_file(file, memory_budget_, vertex_normals);

@@ -42,7 +42,6 @@ inline double length(const Vec3& v) { return std::sqrt(dot(v, v)); }
 inline Vec3 normalize(const Vec3& v) { return v / length(v); }
 inline Vec3 min(const Vec3& a, const Vec3& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
 inline Vec3 max(const Vec3& a, const Vec3& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
-inline double max_component(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 inline double max_abs_component(const Vec3& v) {
   return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z)));
 }

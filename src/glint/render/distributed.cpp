@@ -150,6 +150,7 @@ struct Watch {
   double timeout = kDefaultRankTimeout;  // seconds
   const char* noun = "tiles";
   std::function<std::string(int item)> name;  // of an item in an error message
+  FaultInjection faults;                       // for tests
   std::chrono::duration<double> heartbeat() const { return std::chrono::duration<double>(std::min(1.0, timeout / 4)); }
   bool overdue(Clock::time_point since, Clock::time_point now) const {
     return std::chrono::duration<double>(now - since).count() > timeout;
@@ -181,15 +182,12 @@ std::string what_of(std::exception_ptr e) {
   }
 }
 
-// Test hooks: rank R kills itself (GLINT_TEST_DIE_RANK=R) or stops, as a hung
-// process would (GLINT_TEST_HANG_RANK=R: SIGSTOP), after its first finished
-// item, to check how the job fails.
-void maybe_fail(int rank, int finished) {
-  static const char* die = std::getenv("GLINT_TEST_DIE_RANK");
-  static const char* hang = std::getenv("GLINT_TEST_HANG_RANK");
+// The faults the caller asked for (tests): this rank dies or stops, as a
+// crashed or hung process would, after its first finished item.
+void maybe_fail(const FaultInjection& faults, int rank, int finished) {
   if (finished <= 0) return;
-  if (die && std::atoi(die) == rank) raise(SIGKILL);
-  if (hang && std::atoi(hang) == rank) raise(SIGSTOP);
+  if (faults.die_rank == rank) raise(SIGKILL);
+  if (faults.hang_rank == rank) raise(SIGSTOP);
 }
 
 // Waits until a local item finishes (workers wake us), or up to `pause` so
@@ -304,7 +302,7 @@ void coordinate(LocalWork& work, int count, const QueueDepth& depth, const Resul
       work.ready.notify_all();
       traffic.items_by_rank[0] += static_cast<int>(work.finished.size());
       done += static_cast<int>(work.finished.size());
-      maybe_fail(0, static_cast<int>(work.finished.size()));
+      maybe_fail(watch.faults, 0, static_cast<int>(work.finished.size()));
       work.finished.clear();
       idle = work.closed && work.queue.empty() && work.busy == 0;
     }
@@ -361,7 +359,7 @@ void follow(LocalWork& work, QueueDepth depth, const Results& results, const Wat
       if (results.pack) results.pack(item, buffer);
       traffic.bytes += buffer.size();
       outbox.send(std::move(buffer), 0, kResult);
-      maybe_fail(rank, ++finished_total);
+      maybe_fail(watch.faults, rank, ++finished_total);
     }
     if (!exhausted && !awaiting && outstanding < depth.target()) {
       want = depth.target() - outstanding;
@@ -417,10 +415,17 @@ void run(LocalWork& work, int count, const QueueDepth& depth, const Results& res
 
 }  // namespace
 
-bool launched() {
+bool launched(const std::function<const char*(const char* name)>& environment) {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
-    if (std::getenv(name)) return true;
+    if (environment(name)) return true;
   return false;
+}
+
+FaultInjection test_faults(const std::function<const char*(const char* name)>& environment) {
+  FaultInjection faults;
+  if (const char* die = environment("GLINT_TEST_DIE_RANK")) faults.die_rank = std::atoi(die);
+  if (const char* hang = environment("GLINT_TEST_HANG_RANK")) faults.hang_rank = std::atoi(hang);
+  return faults;
 }
 
 Session::Session() {
@@ -476,7 +481,7 @@ double cpu_seconds(clockid_t clock) {
 }  // namespace
 
 Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size,
-                   DistributedStats* stats, double rank_timeout) {
+                   DistributedStats* stats, double rank_timeout, const FaultInjection& faults) {
   const auto start = std::chrono::steady_clock::now();
   const double process_cpu = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), main_cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
   const int w = scene.render.width, h = scene.render.height;
@@ -526,7 +531,7 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
   // rank holds the frame's end back by only a few of its tiles' time (at most
   // 0.1 s of its work).
   run(work, tiles_x * tiles_y, QueueDepth(4 * threads + 4, 64 * threads + 64), results,
-      Watch{rank_timeout, "tiles", {}}, traffic);
+      Watch{rank_timeout, "tiles", {}, faults}, traffic);
   renderer.join();
 
   uint64_t mine[6] = {rays.camera, rays.shadow, rays.reflection, rays.refraction, traffic.bytes, rays.camera_hits},
@@ -560,7 +565,7 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
 }
 
 void run_items(int count, const std::function<void(int item)>& render, double rank_timeout,
-               const std::function<std::string(int item)>& name) {
+               const std::function<std::string(int item)>& name, const FaultInjection& faults) {
   LocalWork work;
   std::thread renderer([&] {
     for (int item = work.pop(); item != kNoMore; item = work.pop()) {
@@ -575,7 +580,7 @@ void run_items(int count, const std::function<void(int item)>& render, double ra
   });
   Traffic traffic;
   // One frame at a time: it uses all the rank's threads.
-  run(work, count, QueueDepth(1, 1), Results{}, Watch{rank_timeout, "frames", name}, traffic);
+  run(work, count, QueueDepth(1, 1), Results{}, Watch{rank_timeout, "frames", name, faults}, traffic);
   renderer.join();
 }
 

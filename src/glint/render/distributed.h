@@ -13,12 +13,15 @@
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
 #include "glint/render/integrator.h"
+#include "glint/render/tile_size.h"
 #include "glint/scene/scene.h"
 
 namespace glint::mpi {
 
-// Whether an MPI launcher (mpirun, mpiexec, srun) started this process.
-bool launched();
+// Whether an MPI launcher (mpirun, mpiexec, srun) started this process, from
+// the environment as the program passes it (std::getenv: the library itself
+// reads no environment variable).
+bool launched(const std::function<const char*(const char* name)>& environment);
 
 // MPI_Init_thread (funneled) on construction, MPI_Finalize on destruction.
 // Errors on MPI_COMM_WORLD return codes (MPI_ERRORS_RETURN); glint turns a
@@ -47,6 +50,18 @@ void broadcast(std::vector<int>& values);
 // every second while they hold work, whatever a tile or frame takes.
 constexpr double kDefaultRankTimeout = 60;
 
+// Faults to inject, for tests of how a job fails (tests/mpi): after its first
+// finished tile or frame, rank `die_rank` kills itself (SIGKILL) and rank
+// `hang_rank` stops (SIGSTOP), as a crashed or hung process would. -1: none.
+struct FaultInjection {
+  int die_rank = -1;
+  int hang_rank = -1;
+};
+// The faults the test-only variables GLINT_TEST_DIE_RANK=R and
+// GLINT_TEST_HANG_RANK=R ask for (tests/mpi/mpi_tests.sh), in the
+// environment as the program passes it; none when they are unset.
+FaultInjection test_faults(const std::function<const char*(const char* name)>& environment);
+
 struct DistributedStats {
   RayStats rays;            // summed over ranks (rank 0)
   uint64_t bytes_sent = 0;  // by every rank to every other, summed (rank 0)
@@ -63,14 +78,15 @@ struct DistributedStats {
 // A rank that holds tiles and sends nothing for `rank_timeout` seconds (a
 // stopped or hung process, a lost node) ends the job: rank 0 prints
 // `error: rank R: no answer for N s (holding tiles ...)` and aborts.
-Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size = 16,
-                   DistributedStats* stats = nullptr, double rank_timeout = kDefaultRankTimeout);
+Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size = kTileSize,
+                   DistributedStats* stats = nullptr, double rank_timeout = kDefaultRankTimeout,
+                   const FaultInjection& faults = {});
 
 // Collective. Hands out items 0..count-1 on demand, one at a time per rank;
 // each rank calls render(item) for the items it gets (from another thread).
 // An exception from render aborts the job with the rank's error. A hung
 // rank ends the job as in render_image; `name` words an item in that error.
 void run_items(int count, const std::function<void(int item)>& render, double rank_timeout = kDefaultRankTimeout,
-               const std::function<std::string(int item)>& name = {});
+               const std::function<std::string(int item)>& name = {}, const FaultInjection& faults = {});
 
 }  // namespace glint::mpi

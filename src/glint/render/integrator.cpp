@@ -315,8 +315,10 @@ void Integrator::add_light_sample(const Light& light, double cos_cutoff, const V
       if (!trace->blocker) trace->blocker = blocker;
       return;
     }
-  } else if (accel_.occluded(shadow)) {
-    return;
+  } else {
+    const size_t li = static_cast<size_t>(&light - scene_.lights.data());
+    if (li < ctx.shadow_cache.size() ? accel_.occluded_cached(shadow, ctx.shadow_cache[li]) : accel_.occluded(shadow))
+      return;
   }
 
   const Material& m = scene_.materials[sp.material];

@@ -4,6 +4,7 @@
 // adds the weighted reflected and refracted rays, recursively up to max_depth.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -59,10 +60,20 @@ struct CameraSample {
   Color albedo;       // R_d at the first hit; 0 on a miss
 };
 
-// Per-thread state a ray needs: random numbers (area lights) and counters.
+// Per-thread state a ray needs: random numbers (area lights), counters, and
+// the shadow cache: for each of the first lights, the object that last
+// blocked a shadow ray toward it (Accelerator::occluded_cached). Neighbouring
+// points are mostly shadowed by the same object, so that one is asked first.
+inline constexpr size_t kShadowCacheLights = 16;
 struct TraceContext {
   Rng rng;
   RayStats stats;
+  std::array<uint32_t, kShadowCacheLights> shadow_cache = make_shadow_cache();
+  static constexpr std::array<uint32_t, kShadowCacheLights> make_shadow_cache() {
+    std::array<uint32_t, kShadowCacheLights> cache{};
+    cache.fill(kNoShadowBlocker);
+    return cache;
+  }
 };
 
 // What one light did at a shaded point: the facts `glint explain` reports.

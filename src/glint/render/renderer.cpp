@@ -189,11 +189,6 @@ void TileRenderer::render(int x0, int y0, int x1, int y1, TraceContext& ctx, Ima
   for (int y = y0; y < y1; ++y) render_first_pass_row(context_->pc, accel_, y, x0, x1, ctx, image, nullptr);
 }
 
-Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int y, TraceContext& ctx) {
-  const PixelContext pc = make_pixel_context(integrator, scene);
-  return render_pixel_with(pc, x, y, scene.render.samples_per_pixel, ctx);
-}
-
 TileProgress::TileProgress(int width, int height, int tile)
     : tile_size(tile),
       tiles_x((width + tile - 1) / tile),

@@ -13,12 +13,9 @@
 #include "glint/image/image.h"
 #include "glint/render/integrator.h"
 #include "glint/render/passes.h"
+#include "glint/render/tile_size.h"
 
 namespace glint {
-
-// The side of the square tiles that threads take in turn, and the unit of
-// interrupt and resume: one value for every path (CLI, resume files, MPI).
-inline constexpr int kTileSize = 16;
 
 struct RenderOptions {
   int threads = 0;      // 0: all cores
@@ -96,9 +93,6 @@ class TileRenderer {
   const Accelerator& accel_;
   std::unique_ptr<Context> context_;
 };
-
-// Color of one pixel (all its samples averaged): what render_image stores.
-Color render_pixel(const Integrator& integrator, const Scene& scene, int x, int y, TraceContext& ctx);
 
 int resolve_thread_count(int requested);
 

@@ -9,12 +9,13 @@
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
 #include "glint/render/integrator.h"
+#include "glint/render/tile_size.h"
 #include "glint/scene/scene.h"
 
 namespace glint {
 
 struct TileStream {
-  int tile_size = 16;  // tiles numbered row-major, as in TileProgress
+  int tile_size = kTileSize;  // tiles numbered row-major, as in TileProgress
   // The next tile to render, or -1 when there are no more. Called from every
   // worker thread at once; may block until a tile is available.
   std::function<int()> next;
