@@ -15,17 +15,14 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <cmath>
-#include <condition_variable>
 #include <cstdio>
-#include <deque>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
-#include <shared_mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -37,353 +34,21 @@
 #include "glint/serve/assets.h"
 #include "glint/serve/rules.h"
 #include "glint/serve/serve.h"
+#include "glint/serve/session.h"
 #include "glint/serve/watch.h"
+#include "glint/serve/worker.h"
 
 namespace glint::serve {
 
 namespace {
 
-namespace fs = std::filesystem;
-using Json = nlohmann::ordered_json;
-using api::Scene;
-
 // Request bodies are edits and small commands: anything larger is refused.
 constexpr size_t kMaxRequestBytes = 1 << 20;
 // Each open event stream holds one HTTP thread; more tabs than this are refused.
 constexpr int kMaxStreams = 12;
-// The coarse frame has about this many pixels (1 spp).
-constexpr double kCoarsePixels = 40000;
-// Undo steps kept.
-constexpr size_t kUndoLimit = 200;
 
 const std::vector<std::string> kPasses = {"image",      "ambient",      "diffuse", "specular", "reflection",
                                           "transmission", "normal", "depth",   "albedo"};
-
-struct View {
-  double exposure = 0;
-  std::string tonemap = "clamp";
-  std::string pass = "image";
-};
-
-api::ToneMap tonemap_named(const std::string& name) {
-  return name == "reinhard" ? api::ToneMap::reinhard : name == "aces" ? api::ToneMap::aces : api::ToneMap::clamp;
-}
-
-struct Frame {
-  uint64_t seq = 0;
-  uint64_t version = 0;        // the session version it shows
-  uint64_t scene_version = 0;  // and the scene version
-  bool coarse = false;
-  int width = 0, height = 0;
-  std::vector<unsigned char> png;
-  std::shared_ptr<const api::Image> linear;  // full frames: the exact values (PFM download)
-  std::string pass;
-  double exposure = 0;  // the view it was encoded with
-  std::string tonemap;
-  double render_ms = 0;
-};
-
-// The files a scene reads: meshes and textures (its own file aside).
-std::vector<fs::path> files_named(const Scene& scene) {
-  std::vector<fs::path> files;
-  const glint::Scene& internal = *scene.state()->scene;
-  for (const auto& mesh : internal.meshes) files.emplace_back(mesh.file);
-  for (const auto& image : internal.texture_images) files.emplace_back(image.file);
-  return files;
-}
-
-// Everything a tab sees, guarded by one mutex; every change bumps `version`
-// and is announced to the worker and to every stream.
-class Session {
- public:
-  Session(fs::path path, Scene scene) : path_(std::move(path)), scene_(scene), file_scene_(std::move(scene)) {}
-
-  std::mutex mutex;
-  std::condition_variable changed;  // the worker and wait_until() wait on it
-
-  // --- guarded by mutex ---
-  fs::path path_;
-  Scene scene_;       // what is shown and edited
-  Scene file_scene_;  // the file as last loaded (reset, dirty)
-  bool dirty_ = false;
-  std::string error_;                 // the file's last load error ("error: file:line:col: ...")
-  std::optional<Scene> conflict_;     // the file changed under unsaved edits
-  std::vector<Scene> undo_, redo_;
-  std::string coalesce_key_;          // a slider drag is one undo step
-  std::chrono::steady_clock::time_point coalesce_time_;
-  View view_;
-  uint64_t version_ = 1;         // any change of scene or view
-  uint64_t scene_version_ = 1;   // changes of the scene
-  std::deque<Frame> frames_;     // the last few frames
-  uint64_t frame_seq_ = 0;
-  uint64_t full_frames_ = 0;
-  uint64_t full_frame_scene_version_ = 0;
-  uint64_t renders_ = 0;
-  int builds_ = 0;               // acceleration structures built (the worker's Renderer)
-  bool rendering_ = false;
-  int streams_ = 0;              // open event streams (visible tabs)
-  std::set<int> stream_wakers_;  // their eventfds: a stream sleeps in poll() on its own and its socket
-  bool stop_ = false;
-  std::string notice_;           // one-off message for the page (saved as ...)
-  uint64_t notice_seq_ = 0;
-
-  std::atomic<bool> cancel{false};
-
-  // Wakes everyone who waits for a change. Call with the mutex held.
-  void notify() {
-    changed.notify_all();
-    const uint64_t one = 1;
-    for (int fd : stream_wakers_) (void)!write(fd, &one, sizeof one);
-  }
-
-  // Call with the mutex held after any change.
-  void bump(bool scene_changed) {
-    ++version_;
-    if (scene_changed) {
-      ++scene_version_;
-      cancel = true;  // the render in flight is of an old state
-    }
-    notify();
-  }
-
-  void push_undo(const std::string& coalesce_key) {
-    const auto now = std::chrono::steady_clock::now();
-    const bool same_drag = !coalesce_key.empty() && coalesce_key == coalesce_key_ &&
-                           now - coalesce_time_ < std::chrono::seconds(2) && !undo_.empty();
-    if (!same_drag) {
-      undo_.push_back(scene_);
-      if (undo_.size() > kUndoLimit) undo_.erase(undo_.begin());
-    }
-    coalesce_key_ = coalesce_key;
-    coalesce_time_ = now;
-    redo_.clear();
-  }
-
-  // The files the cache should keep: those of the scenes the page can reach
-  // without touching the disk's other files (shown, file, conflict).
-  std::vector<fs::path> files_in_use() const {
-    std::vector<fs::path> files = files_named(scene_);
-    for (const fs::path& f : files_named(file_scene_)) files.push_back(f);
-    if (conflict_)
-      for (const fs::path& f : files_named(*conflict_)) files.push_back(f);
-    return files;
-  }
-
-  ServerStats stats(uint64_t file_reads) const {
-    ServerStats s;
-    s.version = version_;
-    s.scene_version = scene_version_;
-    s.tabs = streams_;
-    s.rendering = rendering_;
-    s.renders = renders_;
-    s.frames = frame_seq_;
-    s.full_frames = full_frames_;
-    s.full_frame_scene_version = full_frame_scene_version_;
-    s.file_reads = file_reads;
-    s.builds = builds_;
-    return s;
-  }
-
-  Json state_json(const ServerStats& stats) const {
-    Json s;
-    s["version"] = version_;
-    s["scene_version"] = scene_version_;
-    s["file"] = path_.filename().string();
-    s["scene"] = Json::parse(scene_.to_json(-1));
-    s["dirty"] = dirty_;
-    s["error"] = error_;
-    s["conflict"] = conflict_.has_value();
-    s["can_undo"] = !undo_.empty();
-    s["can_redo"] = !redo_.empty();
-    s["rendering"] = rendering_;
-    s["width"] = scene_.width();
-    s["height"] = scene_.height();
-    s["view"] = {{"exposure", view_.exposure}, {"tonemap", view_.tonemap}, {"pass", view_.pass}};
-    s["warnings"] = scene_.warnings();
-    s["notice"] = notice_;
-    s["notice_seq"] = notice_seq_;
-    s["can_overwrite"] = path_.extension() == ".json";
-    s["stats"] = {{"tabs", stats.tabs},     {"renders", stats.renders},         {"frames", stats.frames},
-                  {"full_frames", stats.full_frames}, {"file_reads", stats.file_reads},
-                  {"builds", stats.builds}};
-    return s;
-  }
-};
-
-// --- the render worker ----------------------------------------------------
-
-class Worker {
- public:
-  Worker(Session& session, int threads) : session_(session), threads_(threads) {
-    thread_ = std::thread([this] { loop(); });
-  }
-  ~Worker() {
-    {
-      // Also on an early exit (a port that cannot be bound): the thread must not wait forever.
-      std::lock_guard lock(session_.mutex);
-      session_.stop_ = true;
-      session_.cancel = true;
-      session_.notify();
-    }
-    thread_.join();
-  }
-
-  // The ray tree of a pixel of the image on screen.
-  std::string explain(int x, int y) {
-    std::shared_lock lock(renderer_mutex_);
-    if (!renderer_) throw Error("nothing rendered yet");
-    const Scene& s = renderer_->scene();
-    if (x < 0 || y < 0 || x >= s.width() || y >= s.height())
-      throw Error("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the image");
-    return renderer_->explain_json(x, y);
-  }
-
- private:
-  void publish(Frame frame) {
-    frame.exposure = view_.exposure;
-    frame.tonemap = view_.tonemap;
-    std::lock_guard lock(session_.mutex);
-    frame.seq = ++session_.frame_seq_;
-    if (!frame.coarse) {
-      ++session_.full_frames_;
-      session_.full_frame_scene_version_ = frame.scene_version;
-    }
-    session_.frames_.push_back(std::move(frame));
-    while (session_.frames_.size() > 4) session_.frames_.pop_front();
-    session_.notify();
-  }
-  void set_rendering(bool on) {
-    std::lock_guard lock(session_.mutex);
-    session_.rendering_ = on;
-    if (on) ++session_.renders_;
-    ++session_.version_;
-    session_.notify();
-  }
-
-  void loop() {
-    // What the last frame shows; a change of any of it is work to do.
-    uint64_t done_scene_version = 0;
-    View done;
-    std::shared_ptr<const api::Image> last_full;  // the last full frame's linear values
-    for (;;) {
-      std::optional<Scene> scene;
-      View view;
-      uint64_t version = 0, scene_version = 0;
-      {
-        std::unique_lock lock(session_.mutex);
-        // Nothing to do, or nobody watching: sleep without a timeout.
-        session_.changed.wait(lock, [&] {
-          const View& v = session_.view_;
-          return session_.stop_ ||
-                 (session_.streams_ > 0 && (session_.scene_version_ != done_scene_version || v.pass != done.pass ||
-                                            v.exposure != done.exposure || v.tonemap != done.tonemap));
-        });
-        if (session_.stop_) return;
-        scene = session_.scene_;
-        view = session_.view_;
-        version = session_.version_;
-        scene_version = session_.scene_version_;
-        session_.cancel = false;
-      }
-      view_ = view;
-      api::WriteOptions wo;
-      wo.exposure = view.exposure;
-      wo.tonemap = tonemap_named(view.tonemap);
-      const std::string pass = view.pass == "image" ? std::string() : view.pass;
-      if (scene_version == done_scene_version && view.pass == done.pass && last_full) {
-        // Only the exposure or tone map changed: encode the last values again.
-        publish_full(*last_full, version, scene_version, pass, wo, 0, last_full);
-        done = view;
-        continue;
-      }
-      set_rendering(true);
-      try {
-        if (!render_version(*scene, version, scene_version, pass, wo, last_full)) {
-          set_rendering(false);
-          continue;  // cancelled by a newer state, or the last tab went away
-        }
-      } catch (const std::exception& e) {
-        std::lock_guard lock(session_.mutex);
-        session_.error_ = std::string("error: ") + e.what();
-        last_full.reset();
-      }
-      done_scene_version = scene_version;
-      done = view;
-      set_rendering(false);
-    }
-  }
-
-  // Coarse, then full; false when cancelled.
-  bool render_version(const Scene& scene, uint64_t version, uint64_t scene_version, const std::string& pass, const api::WriteOptions& wo,
-                       std::shared_ptr<const api::Image>& last_full) {
-    {
-      std::unique_lock lock(renderer_mutex_);
-      if (!renderer_) renderer_ = std::make_unique<api::Renderer>(scene, api::PrepareOptions{threads_});
-      else renderer_->update(scene);  // keeps the BVH unless the geometry changed
-    }
-    std::shared_lock lock(renderer_mutex_);
-    const int w = scene.width(), h = scene.height();
-    const double scale = std::sqrt(static_cast<double>(w) * h / kCoarsePixels);
-    api::RenderOptions options;
-    options.threads = threads_;
-    options.cancel = &session_.cancel;
-    if (pass.empty()) options.passes.clear();
-    else options.passes = {pass};
-    if (scale > 1.5) {
-      api::RenderOptions coarse = options;
-      coarse.width = std::max(1, static_cast<int>(std::lround(w / scale)));
-      coarse.height = std::max(1, static_cast<int>(std::lround(h / scale)));
-      coarse.samples_per_pixel = 1;
-      const auto start = std::chrono::steady_clock::now();
-      api::RenderResult r = renderer_->render(coarse);
-      if (!r.complete) return false;
-      const api::Image& img = pass.empty() ? r.image : r.passes.at(pass);
-      Frame f;
-      f.version = version;
-      f.scene_version = scene_version;
-      f.coarse = true;
-      f.width = img.width;
-      f.height = img.height;
-      f.png = api::encode_image(img, "png", wo, pass);
-      f.pass = pass;
-      f.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-      publish(std::move(f));
-    }
-    const auto start = std::chrono::steady_clock::now();
-    api::RenderResult r = renderer_->render(options);
-    if (!r.complete) return false;
-    {
-      std::lock_guard lock(session_.mutex);
-      session_.builds_ = r.stats.builds;
-    }
-    auto linear = std::make_shared<const api::Image>(pass.empty() ? std::move(r.image) : std::move(r.passes.at(pass)));
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    publish_full(*linear, version, scene_version, pass, wo, ms, linear);
-    last_full = linear;
-    return true;
-  }
-
-  void publish_full(const api::Image& img, uint64_t version, uint64_t scene_version, const std::string& pass, const api::WriteOptions& wo,
-                    double ms, std::shared_ptr<const api::Image> linear) {
-    Frame f;
-    f.version = version;
-    f.scene_version = scene_version;
-    f.width = img.width;
-    f.height = img.height;
-    f.png = api::encode_image(img, "png", wo, pass);
-    f.linear = std::move(linear);
-    f.pass = pass;
-    f.render_ms = ms;
-    publish(std::move(f));
-  }
-
-  Session& session_;
-  int threads_;
-  View view_;  // of the job in hand
-  std::shared_mutex renderer_mutex_;
-  std::unique_ptr<api::Renderer> renderer_;
-  std::thread thread_;
-};
 
 // --- HTTP helpers ------------------------------------------------------------
 
@@ -430,6 +95,24 @@ bool true_field(const Json& body, const char* key) {
 void write_text_atomically(const fs::path& path, const std::string& text) {
   write_file_atomically(path, std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(text.data()),
                                                              text.size()));
+}
+
+Json parse_body(const httplib::Request& req) {
+  Json body = Json::parse(req.body, nullptr, false);
+  if (body.is_discarded() || !body.is_object()) throw Error("request: expected a JSON object");
+  return body;
+}
+
+// A command's handler: `run` takes the request's JSON object and gives the
+// answer; its glint::Error (the loader's message) is the answer otherwise.
+httplib::Server::Handler command(std::function<Json(const Json&)> run) {
+  return [run = std::move(run)](const httplib::Request& req, httplib::Response& res) {
+    try {
+      send_json(res, run(parse_body(req)));
+    } catch (const std::exception& e) {
+      send_error(res, e.what());
+    }
+  };
 }
 
 // "address port" of a socket's end, as httplib writes Request::remote_addr.
@@ -495,6 +178,11 @@ struct Server::Impl {
   ~Impl();
 
   void routes();
+  void guard_routes();
+  void edit_routes();
+  void view_and_file_routes();
+  void frame_routes();
+  void event_route();
   void reload(const std::vector<fs::path>& changed);
   // After the scene shown or the file's scene changed (mutex held): the
   // cache and the watcher follow, the worker and the tabs hear of it.
@@ -591,6 +279,23 @@ void Server::Impl::reload(const std::vector<fs::path>& changed) {
 }
 
 void Server::Impl::routes() {
+  guard_routes();
+  // The page: only the assets built into the binary.
+  for (const Asset& asset : assets()) {
+    std::string route = "/";
+    if (asset.name != "index.html") route.append(asset.name);
+    http.Get(route, [asset](const httplib::Request&, httplib::Response& res) {
+      res.set_content(std::string(asset.data, asset.size), std::string(asset.type));
+    });
+  }
+  edit_routes();
+  view_and_file_routes();
+  frame_routes();
+  event_route();
+}
+
+// Who may talk to us, and how: before any route.
+void Server::Impl::guard_routes() {
   http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     add_common_headers(res);
     const std::string host_header = req.get_header_value("Host");
@@ -619,37 +324,10 @@ void Server::Impl::routes() {
     }
     return httplib::Server::HandlerResponse::Unhandled;
   });
+}
 
-  // The page: only the assets built into the binary.
-  for (const Asset& asset : assets()) {
-    std::string route = "/";
-    if (asset.name != "index.html") route.append(asset.name);
-    http.Get(route, [asset](const httplib::Request&, httplib::Response& res) {
-      res.set_content(std::string(asset.data, asset.size), std::string(asset.type));
-    });
-  }
-
-  auto parse_body = [](const httplib::Request& req) {
-    Json body = Json::parse(req.body, nullptr, false);
-    if (body.is_discarded() || !body.is_object()) throw Error("request: expected a JSON object");
-    return body;
-  };
-  // Runs a command; its glint::Error (the loader's message) is the answer.
-  auto command = [parse_body](auto&& body_fn) {
-    return [parse_body, body_fn](const httplib::Request& req, httplib::Response& res) {
-      try {
-        send_json(res, body_fn(parse_body(req)));
-      } catch (const std::exception& e) {
-        send_error(res, e.what());
-      }
-    };
-  };
-
-  http.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
-    std::lock_guard lock(session.mutex);
-    send_json(res, session.state_json(stats_locked()));
-  });
-
+// The scene's edits: edit, undo and redo, reset, resolve a conflict.
+void Server::Impl::edit_routes() {
   http.Post("/api/edit", command([this](const Json& body) {
     const Json edits = body.contains("edits") ? body["edits"] : Json();
     const std::string coalesce = string_field(body, "coalesce");
@@ -712,6 +390,15 @@ void Server::Impl::routes() {
     return Json{{"ok", true}, {"version", session.version_}};
   }));
 
+}
+
+// The view (exposure, tone map, pass), a pixel's ray tree, saving, the state.
+void Server::Impl::view_and_file_routes() {
+  http.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
+    std::lock_guard lock(session.mutex);
+    send_json(res, session.state_json(stats_locked()));
+  });
+
   http.Post("/api/view", command([this](const Json& body) {
     std::lock_guard lock(session.mutex);
     View v = session.view_;
@@ -768,7 +455,10 @@ void Server::Impl::routes() {
     return Json{{"ok", true}, {"notice", session.notice_}};
   }));
 
-  // Frames by number: only the last few that were rendered.
+}
+
+// Frames by number: only the last few that were rendered.
+void Server::Impl::frame_routes() {
   auto find_frame = [this](uint64_t seq) -> std::optional<Frame> {
     std::lock_guard lock(session.mutex);
     for (const Frame& f : session.frames_)
@@ -789,10 +479,13 @@ void Server::Impl::routes() {
     res.set_content(std::string(bytes.begin(), bytes.end()), "application/octet-stream");
   });
 
-  // Server-sent events: the state and each new frame, to every tab. A
-  // stream sleeps in poll() on its eventfd (the session's changes) and its
-  // socket (the tab going away): no timer, so nothing runs while nothing
-  // changes, and a closed tab is let go of at once.
+}
+
+// Server-sent events: the state and each new frame, to every tab. A stream
+// sleeps in poll() on its eventfd (the session's changes) and its socket
+// (the tab going away): no timer, so nothing runs while nothing changes, and
+// a closed tab is let go of at once.
+void Server::Impl::event_route() {
   http.Get("/events", [this](const httplib::Request& req, httplib::Response& res) {
     struct Stream {
       int wake = -1, socket = -1;
