@@ -31,6 +31,7 @@ base.render.samples_per_pixel = 1;
 fs.writeFileSync(scenePath, JSON.stringify(base, null, 2));
 
 let server = null, url = null, context = null, page = null, userData = null;
+const pageRequests = [];  // every URL the first page asked for
 const serverOutput = [];
 
 function startServer(scene) {
@@ -69,6 +70,7 @@ before(async () => {
   });
   page = context.pages()[0] || (await context.newPage());
   page.on('dialog', (d) => d.accept());
+  page.on('request', (r) => pageRequests.push(r.url()));
   await page.goto(url + '/');
 });
 
@@ -123,8 +125,13 @@ const setRange = (selector, value, p = page) => p.locator(selector).evaluate((el
   el.dispatchEvent(new Event('input', { bubbles: true }));
 }, String(value));
 
+// Rendered images go to a folder of their own: files appearing in the
+// scene's folder would wake the watcher (it watches folders, and ignores
+// names it does not watch).
+const renderFolder = path.join(work, 'renders');
+fs.mkdirSync(renderFolder);
 function glintRender(scene, extra = []) {
-  const out = path.join(work, `expected-${Date.now()}-${Math.random().toString(36).slice(2)}.png`);
+  const out = path.join(renderFolder, `expected-${Date.now()}-${Math.random().toString(36).slice(2)}.png`);
   execFileSync(GLINT, ['render', scene, '-o', out, '-q', ...extra]);
   return out;
 }
@@ -162,8 +169,8 @@ const canvasHash = (p = page) => p.evaluate(() => {
   return h >>> 0;
 });
 
-function request(pathname, { method = 'GET', headers = {}, body } = {}) {
-  const u = new URL(url);
+function request(pathname, { method = 'GET', headers = {}, body } = {}, base = url) {
+  const u = new URL(base);
   return new Promise((resolve, reject) => {
     const req = http.request({ host: u.hostname, port: u.port, path: pathname, method, headers }, (res) => {
       let text = '';
@@ -174,6 +181,90 @@ function request(pathname, { method = 'GET', headers = {}, body } = {}) {
     if (body) req.write(body);
     req.end();
   });
+}
+
+const serverState = async (base = url) => JSON.parse((await request('/api/state', {}, base)).text);
+
+// Asks the server for its state until `fn(state)` holds: each answer is an
+// event, and nothing else would tell (a tab's stream would count as a tab).
+async function untilState(fn, base = url, timeout = 20000) {
+  const deadline = Date.now() + timeout;
+  for (;;) {
+    const s = await serverState(base);
+    if (fn(s)) return s;
+    if (Date.now() > deadline) throw new Error(`timed out waiting for ${fn}`);
+    await new Promise(setImmediate);
+  }
+}
+
+// --- is the server asleep? (/proc of its process) ----------------------------
+
+// Whether a thread is blocked in a system call without a timeout (it runs
+// again only when something happens), from /proc/PID/task/TID/syscall: the
+// call's number and arguments, x86-64 numbering.
+function blockedForGood(line) {
+  const parts = line.trim().split(/\s+/);
+  if (parts.length < 7 || !/^\d+$/.test(parts[0])) return false;  // "running", or not in a call
+  const arg = (i) => BigInt(parts[1 + i]);
+  const infinite = (v) => (v & 0xffffffffn) >= 0x80000000n;  // an int timeout < 0
+  switch (Number(parts[0])) {
+    case 202: return arg(3) === 0n;                 // futex, no timeout
+    case 7: return infinite(arg(2));                // poll
+    case 271: return arg(2) === 0n;                 // ppoll
+    case 232: case 281: return infinite(arg(3));    // epoll_wait, epoll_pwait
+    case 23: case 270: return arg(4) === 0n;        // select, pselect6
+    case 0: case 43: case 45: case 288: return true;  // read, accept, recvfrom, accept4
+    case 128: return arg(2) === 0n;                 // rt_sigtimedwait (sigwait)
+    default: return false;
+  }
+}
+
+function threadsAwake(pid) {
+  const awake = [];
+  for (const tid of fs.readdirSync(`/proc/${pid}/task`)) {
+    let line, name;
+    try {
+      line = fs.readFileSync(`/proc/${pid}/task/${tid}/syscall`, 'utf8');
+      name = fs.readFileSync(`/proc/${pid}/task/${tid}/comm`, 'utf8').trim();
+    } catch (e) {
+      continue;  // the thread ended meanwhile
+    }
+    if (!blockedForGood(line)) awake.push(`${tid} ${name}: ${line.trim()}`);
+  }
+  return awake;
+}
+
+// Until every thread of the server sleeps for good: those that served the
+// last requests get back to their queue a moment after the answers left.
+async function untilAsleep(pid, timeout = 15000) {
+  const deadline = Date.now() + timeout;
+  for (;;) {
+    const awake = threadsAwake(pid);
+    if (!awake.length) return;
+    if (Date.now() > deadline) throw new Error('threads of glint serve still awake: ' + awake.join('; '));
+    await new Promise(setImmediate);
+  }
+}
+
+// The CPU time (clock ticks, user and system) and the context switches of
+// every thread of a process: a thread that runs at all changes the latter.
+function cpuUse(pid) {
+  const stat = fs.readFileSync(`/proc/${pid}/stat`, 'utf8');
+  const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+  const use = { ticks: Number(fields[11]) + Number(fields[12]), switches: 0 };
+  for (const tid of fs.readdirSync(`/proc/${pid}/task`)) {
+    const status = fs.readFileSync(`/proc/${pid}/task/${tid}/status`, 'utf8');
+    for (const m of status.matchAll(/^(?:non)?voluntary_ctxt_switches:\s+(\d+)$/gm)) use.switches += Number(m[1]);
+  }
+  return use;
+}
+
+// A page of its own for a test, its dialogs accepted.
+async function newPage(address) {
+  const p = await context.newPage();
+  p.on('dialog', (d) => d.accept());
+  await p.goto(address + '/');
+  return p;
 }
 
 const rss = () => {
@@ -188,6 +279,9 @@ test('the page shows the scene as glint render draws it', async () => {
   assert.equal(await diffWithPng(glintRender(scenePath)), 0);
   const title = await page.textContent('#file');
   assert.equal(title, 'scene.json');
+  // Everything the page needs comes from glint itself: no CDN, no network.
+  assert.ok(pageRequests.length >= 4, pageRequests.join(' '));
+  for (const r of pageRequests) assert.ok(r.startsWith(url + '/'), r);
 });
 
 test('the file stays the truth: in place, by rename, broken', async () => {
@@ -271,6 +365,36 @@ test('clicking a pixel shows the tree of glint explain --json and selects its ma
   assert.ok(row.includes(String(+nDotL.toPrecision(6))), row);
 });
 
+test('undo, redo and reset by the keyboard and buttons; the downloads are the frame', async () => {
+  const edited = structuredClone(base);
+  edited.materials.red.shininess = 7;
+  const editedPng = glintRender(writeScene(edited, 'undo-edited.json'));
+  const filePng = glintRender(scenePath);
+  await page.locator('#frame').focus();
+  await page.keyboard.press('Control+z');
+  await settled(page, { 'scene.materials.red.shininess': base.materials.red.shininess, dirty: false, can_redo: true });
+  assert.equal(await diffWithPng(filePng), 0);
+  await page.keyboard.press('Control+Shift+z');
+  await settled(page, { 'scene.materials.red.shininess': 7, dirty: true, can_redo: false });
+  assert.equal(await diffWithPng(editedPng), 0);
+  await page.click('#reset');
+  await settled(page, { 'scene.materials.red.shininess': base.materials.red.shininess, dirty: false });
+  assert.equal(await diffWithPng(filePng), 0);
+  await page.click('#undo');  // the reset is a step too
+  await settled(page, { 'scene.materials.red.shininess': 7, dirty: true });
+  assert.equal(await diffWithPng(editedPng), 0);
+  // The download links: the frame on screen as PNG, its exact values as PFM,
+  // the files glint render writes, byte for byte.
+  const links = await page.evaluate(() => [document.getElementById('download-png').href, document.getElementById('download-pfm').href]);
+  const png = await page.evaluate((u) => fetch(u).then(async (r) => [r.headers.get('content-disposition'), [...new Uint8Array(await r.arrayBuffer())]]), links[0]);
+  assert.match(png[0], /attachment; filename="glint\.png"/);
+  assert.deepEqual(Buffer.from(png[1]), fs.readFileSync(editedPng));
+  const pfmFile = editedPng.replace(/\.png$/, '.pfm');
+  execFileSync(GLINT, ['render', path.join(work, 'undo-edited.json'), '-o', pfmFile, '-q']);
+  const pfm = await page.evaluate((u) => fetch(u).then(async (r) => [...new Uint8Array(await r.arrayBuffer())]), links[1]);
+  assert.deepEqual(Buffer.from(pfm), fs.readFileSync(pfmFile));
+});
+
 test('save over the file and as a new file: glint render gives the image on screen', async () => {
   await settled();
   await page.click('#save');  // the dialog is accepted
@@ -296,6 +420,162 @@ test('unsaved edits and a changed file: the page asks', async () => {
   await page.click('#take-file');
   await settled(page, { conflict: false, dirty: false, 'scene.render.background': [0, 0.3, 0] });
   assert.equal(await diffWithPng(glintRender(scenePath)), 0);
+});
+
+test('no CPU while nothing changes, with a tab open or with none', async (t) => {
+  if (process.arch !== 'x64') return t.skip('the system call numbers are x86-64\'s');
+  await settled();
+  const doc = (await serverState()).scene;
+  const file = writeScene(doc);
+  // A tab is open and nothing changes: every thread of the server sleeps in
+  // a call without a timeout (so only an event can wake it)...
+  await untilAsleep(server.pid);
+  // ...and stays asleep: not a clock tick, not one context switch, across
+  // the window in which glint render draws the same scene (into another
+  // folder than the scene's, whose changes the watcher would look at).
+  const quiet = cpuUse(server.pid);
+  const start = Date.now();
+  const expected = glintRender(file);
+  const window1 = Date.now() - start;
+  assert.deepEqual(cpuUse(server.pid), quiet);
+  assert.equal(await diffWithPng(expected), 0);
+  // No tab: its stream is let go of at once. A change of the file is read,
+  // not rendered, and then the server sleeps again.
+  const renders = (await serverState()).stats.renders;
+  await page.goto('about:blank');
+  const before = await untilState((s) => s.stats.tabs === 0);
+  const changed = structuredClone(doc);
+  changed.render.background = [0.2, 0.2, 0.3];
+  fs.writeFileSync(scenePath, JSON.stringify(changed, null, 2));
+  await untilState((s) => s.scene_version > before.scene_version);
+  await untilAsleep(server.pid);
+  const idle = cpuUse(server.pid);
+  const start2 = Date.now();
+  const expectedChanged = glintRender(scenePath);
+  const window2 = Date.now() - start2;
+  assert.deepEqual(cpuUse(server.pid), idle);
+  assert.equal((await serverState()).stats.renders, renders);
+  // A tab again: the file as it is now.
+  await page.goto(url + '/');
+  await settled(page, { 'scene.render.background': [0.2, 0.2, 0.3] });
+  assert.equal(await diffWithPng(expectedChanged), 0);
+  t.diagnostic(`asleep: no tick and no context switch in ${window1} ms with a tab, ${window2} ms without`);
+});
+
+test('meshes and textures are read once; a changed one is read again and shown', async () => {
+  const dir = path.join(work, 'textures');
+  fs.mkdirSync(dir);
+  for (const f of ['torus.obj', 'torus.mtl', 'bricks.png', 'uv-grid.png'])
+    fs.copyFileSync(path.join(SOURCE, 'scenes/textures', f), path.join(dir, f));
+  const doc = JSON.parse(fs.readFileSync(path.join(SOURCE, 'scenes/textures/textures.json'), 'utf8'));
+  delete doc.$schema;
+  doc.render.width = 320;
+  doc.render.height = 180;
+  doc.render.samples_per_pixel = 1;
+  const file = path.join(dir, 'textures.json');
+  fs.writeFileSync(file, JSON.stringify(doc, null, 2));
+  const { proc, url: address } = await startServer(file);
+  let p = null;
+  try {
+    p = await newPage(address);
+    await settled(p);
+    const look = () => p.evaluate(() => ({ reads: window.glintPreview.state.stats.file_reads,
+      builds: window.glintPreview.state.stats.builds,
+      version: window.glintPreview.state.scene_version, scene: window.glintPreview.state.scene }));
+    // torus.obj (with its .mtl), bricks.png, uv-grid.png.
+    assert.equal((await look()).reads, 3);
+    assert.equal(await diffWithPng(glintRender(file), p), 0);
+    // A material, the camera and a light: another frame, no file read.
+    const first = await canvasHash(p);
+    await p.selectOption('#material-select', 'uv grid');
+    await setRange('input[type=range][data-path="materials.uv grid.shininess"]', 5, p);
+    await setRange('input[type=range][data-path="camera.fov_y"]', 50, p);
+    await setRange('input[type=range][data-path="lights[1].diffuse"][data-channel="0"]', 0.3, p);
+    await settled(p, { 'scene.materials.uv grid.shininess': 5, 'scene.camera.fov_y': 50, 'scene.lights.1.diffuse': [0.3, 0.88, 0.8] });
+    assert.notEqual(await canvasHash(p), first);
+    let now = await look();
+    assert.equal(now.reads, 3);
+    assert.equal(now.builds, 1);  // the prepared geometry kept
+    // What glint render draws of the edited scene (beside the files it names).
+    const edited = path.join(dir, 'expected.json');
+    fs.writeFileSync(edited, JSON.stringify(now.scene));
+    assert.equal(await diffWithPng(glintRender(edited), p), 0);
+    // The .mtl changes on disk (the page holds unsaved edits, the scene file
+    // is unchanged): shown under the edits, the mesh read again, the textures not.
+    const mtl = fs.readFileSync(path.join(dir, 'torus.mtl'), 'utf8');
+    fs.writeFileSync(path.join(dir, 'torus.mtl'), mtl.replace('Ks 0.15 0.15 0.15', 'Ks 0.9 0.9 0.9').replace('Ns 20', 'Ns 6'));
+    await until(p, (v) => window.glintPreview.state.scene_version > v, now.version);
+    await settled(p, { dirty: true, conflict: false });
+    now = await look();
+    assert.equal(now.reads, 4);
+    assert.equal(now.builds, 1);  // new materials, the same triangles
+    const afterMtl = await canvasHash(p);
+    assert.equal(await diffWithPng(glintRender(edited), p), 0);
+    // The mesh, renamed over by an editor: read again, the frame follows.
+    const obj = fs.readFileSync(path.join(dir, 'torus.obj'), 'utf8')
+      .replace(/^v (\S+) (\S+) (\S+)$/gm, (m, x, y, z) => `v ${x} ${(1.6 * Number(y)).toFixed(5)} ${z}`);
+    fs.writeFileSync(path.join(dir, '.torus.obj.tmp'), obj);
+    fs.renameSync(path.join(dir, '.torus.obj.tmp'), path.join(dir, 'torus.obj'));
+    await until(p, (v) => window.glintPreview.state.scene_version > v, now.version);
+    await settled(p, { dirty: true });
+    now = await look();
+    assert.equal(now.reads, 5);
+    assert.equal(now.builds, 2);
+    assert.notEqual(await canvasHash(p), afterMtl);
+    assert.equal(await diffWithPng(glintRender(edited), p), 0);
+    // A texture rewritten in place: read again, alone.
+    fs.copyFileSync(path.join(dir, 'uv-grid.png'), path.join(dir, 'bricks.png'));
+    await until(p, (v) => window.glintPreview.state.scene_version > v, now.version);
+    await settled(p, { dirty: true });
+    assert.equal((await look()).reads, 6);
+    assert.equal(await diffWithPng(glintRender(edited), p), 0);
+  } finally {
+    if (p) await p.close();
+    assert.equal(await stopServer(proc), 0);
+  }
+});
+
+test('a model file is a scene: framed as glint render frames it, saved as a scene that renders the same', async () => {
+  const dir = path.join(work, 'model');
+  fs.mkdirSync(dir);
+  const model = path.join(dir, 'model.obj');
+  fs.writeFileSync(path.join(dir, 'model.mtl'), 'newmtl gold\nKa 0.1 0.08 0.02\nKd 0.8 0.6 0.2\nKs 0.6 0.6 0.5\nNs 40\nillum 2\n');
+  // An octahedron, and the same stretched (written over it later).
+  const octahedron = (h) => 'mtllib model.mtl\nv 1 0 0\nv -1 0 0\nv 0 ' + h + ' 0\nv 0 ' + -h + ' 0\nv 0 0 1\nv 0 0 -1\nusemtl gold\n' +
+    'f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n';
+  fs.writeFileSync(model, octahedron(1));
+  const { proc, url: address } = await startServer(model);
+  let p = null;
+  try {
+    p = await newPage(address);
+    await settled(p);
+    assert.equal(await p.textContent('#file'), 'model.obj');
+    assert.equal(await p.isDisabled('#save'), true);  // a model is never overwritten by a scene
+    assert.equal(await diffWithPng(glintRender(model), p), 0);
+    // The model changes on disk: framed again, as glint render frames it.
+    const first = await canvasHash(p);
+    const version = await p.evaluate(() => window.glintPreview.state.scene_version);
+    fs.writeFileSync(model, octahedron(1.8));
+    await until(p, (v) => window.glintPreview.state.scene_version > v, version);
+    await settled(p, { dirty: false });
+    assert.notEqual(await canvasHash(p), first);
+    assert.equal(await diffWithPng(glintRender(model), p), 0);
+    // The key light's L_d, moved on the page; then saved as a scene.
+    await setRange('input[type=range][data-path="lights[1].diffuse"][data-channel="0"]', 0.4, p);
+    await settled(p, { dirty: true, 'scene.lights.1.diffuse': [0.4, 0.9, 0.9] });
+    await p.click('#save-new');
+    await until(p, () => /saved as model-edited\.json/.test(window.glintPreview.state.notice));
+    await settled(p);
+    const saved = path.join(dir, 'model-edited.json');
+    const scene = JSON.parse(fs.readFileSync(saved, 'utf8'));
+    assert.equal(scene.objects[0].file, 'model.obj');
+    assert.deepEqual(scene.lights[1].diffuse, [0.4, 0.9, 0.9]);
+    assert.equal(await diffWithPng(glintRender(saved), p), 0);
+    assert.deepEqual(fs.readdirSync(dir).sort(), ['model-edited.json', 'model.mtl', 'model.obj']);
+  } finally {
+    if (p) await p.close();
+    assert.equal(await stopServer(proc), 0);
+  }
 });
 
 test('requests from elsewhere are refused', async () => {
@@ -332,6 +612,31 @@ test('requests from elsewhere are refused', async () => {
   await other.close();
   const state = JSON.parse((await request('/api/state')).text);
   assert.notEqual(state.scene.render.max_depth, 1);
+});
+
+test('--host other than this machine: a warning, and its address', async () => {
+  const proc = spawn(GLINT, ['serve', scenePath, '--port', '0', '--host', '0.0.0.0', '--threads', '1'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let stderr = '';
+  proc.stderr.on('data', (d) => { stderr += d; });
+  const address = await new Promise((resolve, reject) => {
+    proc.on('exit', (code) => reject(new Error(`glint serve exited (${code}): ${stderr}`)));
+    readline.createInterface({ input: proc.stdout }).on('line', (line) => {
+      const m = /^glint serve: (http:\/\/\S+)\/$/.exec(line);
+      if (m) resolve(m[1]);
+    });
+  });
+  try {
+    assert.match(address, /^http:\/\/0\.0\.0\.0:\d+$/);
+    assert.match(stderr, /^warning: listening on 0\.0\.0\.0: anyone who can reach this address can see and edit the scene/);
+    // Reached by an address of this machine (an IP literal is never a rebinding name).
+    const port = new URL(address).port;
+    const r = await request('/api/state', { headers: { Host: `127.0.0.1:${port}` } }, `http://127.0.0.1:${port}`);
+    assert.equal(r.status, 200);
+    const refused = await request('/api/state', { headers: { Host: `rebind.example:${port}` } }, `http://127.0.0.1:${port}`);
+    assert.equal(refused.status, 403);
+  } finally {
+    assert.equal(await stopServer(proc), 0);
+  }
 });
 
 test('soak: random edits from two tabs keep memory flat and frames correct', async (t) => {

@@ -241,9 +241,18 @@ Json parse_value(std::string_view json_text, std::string_view what) {
 
 size_t hash_combine(size_t seed, size_t v) { return seed ^ (v + 0x9e3779b97f4a7c15ULL + (seed << 6) + (seed >> 2)); }
 
-// Objects (but their materials; attached meshes by their ids, whose arrays
-// never change), animation and the mesh files they name (by size and time):
-// what the acceleration structure is built from.
+template <typename T>
+size_t hash_bytes(const std::vector<T>& values) {
+  return std::hash<std::string_view>{}(
+      std::string_view(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)));
+}
+
+// Objects (but their materials), animation and the meshes' triangles (from
+// files or attached arrays): what the
+// acceleration structure is built from. The triangles as read, not the files' sizes and
+// times: a file rewritten within the clock's granularity keeps its time, and
+// one that changes between its reading and a look at its time would pair
+// the new time with the old triangles. (Hashing is far cheaper than reading.)
 size_t compute_geometry_key(const Json& document, const glint::Scene& scene) {
   size_t key = 0;
   if (auto it = document.find("objects"); it != document.end()) {
@@ -258,12 +267,9 @@ size_t compute_geometry_key(const Json& document, const glint::Scene& scene) {
   if (auto it = document.find("animation"); it != document.end())
     key = hash_combine(key, std::hash<std::string>{}(it->dump()));
   for (const Mesh& mesh : scene.meshes) {
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(mesh.file, ec);
-    const auto time = std::filesystem::last_write_time(mesh.file, ec).time_since_epoch().count();
     key = hash_combine(key, std::hash<std::string>{}(mesh.file));
-    key = hash_combine(key, static_cast<size_t>(size));
-    key = hash_combine(key, static_cast<size_t>(time));
+    key = hash_combine(key, hash_bytes(mesh.positions));
+    key = hash_combine(key, hash_bytes(mesh.indices));
   }
   return key;
 }
@@ -276,8 +282,9 @@ Json at_pointer(const Json& document, const char* pointer) {
 
 std::shared_ptr<const Scene::State> make_state(Json document, glint::Scene scene, AttachedMeshes meshes,
                                                std::optional<NffView> nff, std::filesystem::path base_dir,
-                                               std::string name) {
+                                               std::string name, std::shared_ptr<FileCache> files) {
   auto state = std::make_shared<Scene::State>();
+  state->files = std::move(files);
   // Arrays no object names any more (the object was removed, replaced or
   // written out as JSON) are let go.
   std::set<uint64_t> used;
@@ -304,38 +311,48 @@ std::shared_ptr<const Scene::State> make_state(Json document, glint::Scene scene
 glint::Scene check(const Json& document, const AttachedMeshes& meshes, const Scene::State& from) {
   try {
     return parse_scene(document.dump(), from.name, from.base_dir, default_memory_budget(),
-                       meshes.empty() ? nullptr : &meshes);
+                       meshes.empty() ? nullptr : &meshes, from.files.get());
   } catch (const Error& e) {
     if (e.path().empty() || e.message().size() < e.path().size() + 2) throw Error(SourceLocation{from.name, 0, 0}, e.message());
     throw Error(SourceLocation{from.name, 0, 0}, e.path(), e.message().substr(e.path().size() + 2));
   }
 }
 
+Scene from_json_with(std::string_view json_text, const std::filesystem::path& base_dir, std::string_view name,
+                     std::shared_ptr<FileCache> files) {
+  glint::Scene scene =
+      parse_scene(std::string(json_text), std::string(name), base_dir, default_memory_budget(), nullptr, files.get());
+  std::string_view text = json_text;
+  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  Json document = Json::parse(text.begin(), text.end());
+  return Scene(
+      make_state(std::move(document), std::move(scene), {}, std::nullopt, base_dir, std::string(name), std::move(files)));
+}
+
 }  // namespace
 
-Scene Scene::load(const std::filesystem::path& path) {
+Scene load_scene_with(const std::filesystem::path& path, std::shared_ptr<FileCache> files) {
   // A bare mesh file: its framing scene is the document (io/mesh_scene.h).
-  if (is_mesh_file(path)) return from_json(mesh_scene_json(path), path.parent_path(), path.string());
-  glint::Scene scene = load_scene(path);  // every check, with file:line:col
+  if (is_mesh_file(path)) return from_json_with(mesh_scene_json(path), path.parent_path(), path.string(), std::move(files));
+  glint::Scene scene = load_scene(path, files.get());  // every check, with file:line:col
   if (is_nff_path(path)) {
     // An NFF file's document is the glint JSON its reader makes (docs/nff.md).
     NffScene nff = read_nff_file(path);
     NffView view{nff.angle, at_pointer(nff.document, "/camera"), at_pointer(nff.document, "/render/height")};
     return Scene(make_state(std::move(nff.document), std::move(scene), {}, std::move(view), path.parent_path(),
-                            path.string()));
+                            path.string(), std::move(files)));
   }
   const std::vector<unsigned char> bytes = read_file(path);
   size_t skip = bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF ? 3 : 0;
   Json document = Json::parse(bytes.begin() + static_cast<std::ptrdiff_t>(skip), bytes.end());
-  return Scene(make_state(std::move(document), std::move(scene), {}, std::nullopt, path.parent_path(), path.string()));
+  return Scene(make_state(std::move(document), std::move(scene), {}, std::nullopt, path.parent_path(), path.string(),
+                          std::move(files)));
 }
 
+Scene Scene::load(const std::filesystem::path& path) { return load_scene_with(path, nullptr); }
+
 Scene Scene::from_json(std::string_view json_text, const std::filesystem::path& base_dir, std::string_view name) {
-  glint::Scene scene = parse_scene(std::string(json_text), std::string(name), base_dir);
-  std::string_view text = json_text;
-  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-  Json document = Json::parse(text.begin(), text.end());
-  return Scene(make_state(std::move(document), std::move(scene), {}, std::nullopt, base_dir, std::string(name)));
+  return from_json_with(json_text, base_dir, name, nullptr);
 }
 
 std::string Scene::to_json(int indent) const {
@@ -402,7 +419,8 @@ std::shared_ptr<const Scene::State> edited(const Scene::State& from, const Edit&
   AttachedMeshes meshes = from.meshes;
   edit(document, meshes);
   glint::Scene scene = check(document, meshes, from);
-  return make_state(std::move(document), std::move(scene), std::move(meshes), from.nff, from.base_dir, from.name);
+  return make_state(std::move(document), std::move(scene), std::move(meshes), from.nff, from.base_dir, from.name,
+                    from.files);
 }
 
 void set_value(Json& document, const AttachedMeshes& meshes, std::string_view path, Json value) {
@@ -448,6 +466,8 @@ void check_mesh_arrays(const MeshArrays& a, const std::string& scene_name) {
 }
 
 }  // namespace
+
+Scene reread_files(const Scene& scene) { return Scene(edited(*scene.state(), [](Json&, AttachedMeshes&) {})); }
 
 void Scene::set_json(std::string_view path, std::string_view json_value) {
   Json value = parse_value(json_value, path);

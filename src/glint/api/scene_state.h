@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "glint/io/file_cache.h"
 #include "glint/io/scene_loader.h"
 #include "glint/scene.h"
 #include "glint/scene/scene.h"
@@ -34,6 +35,17 @@ struct Scene::State {
   std::string name;  // the file or name messages give
   std::shared_ptr<const glint::Scene> scene;
   size_t geometry_key = 0;
+  // Where the loader gets mesh and texture files; shared by every state
+  // edited from this one. nullptr (Scene::load): read them each time.
+  std::shared_ptr<FileCache> files;
 };
+
+// Scene::load with its mesh and texture files from `files` (glint serve:
+// edits then re-read no file that has not changed).
+Scene load_scene_with(const std::filesystem::path& path, std::shared_ptr<FileCache> files);
+
+// The same document checked again, with its mesh and texture files as they
+// are now (from its cache where they have not changed).
+Scene reread_files(const Scene& scene);
 
 }  // namespace glint::api

@@ -98,6 +98,10 @@ void write_file_atomically(const fs::path& target, std::span<const unsigned char
   temp.committed = true;
 }
 
+namespace {
+thread_local FileReadLog* read_log = nullptr;  // the innermost on this thread
+}  // namespace
+
 std::vector<unsigned char> read_file(const fs::path& path) {
   struct FileDescriptor {
     int fd;
@@ -122,7 +126,11 @@ std::vector<unsigned char> read_file(const fs::path& path) {
     if (n == 0) break;
     bytes.insert(bytes.end(), buffer, buffer + n);
   }
+  for (FileReadLog* log = read_log; log; log = log->outer_) log->files_.push_back(path);
   return bytes;
 }
+
+FileReadLog::FileReadLog() : outer_(read_log) { read_log = this; }
+FileReadLog::~FileReadLog() { read_log = outer_; }
 
 }  // namespace glint

@@ -19,6 +19,7 @@
 #include "glint/geometry/polygon.h"
 #include "glint/io/json.h"
 #include "glint/io/memory_limit.h"
+#include "glint/io/file_cache.h"
 #include "glint/io/mesh_file.h"
 #include "glint/io/nff_file.h"
 #include "glint/io/mesh_scene.h"
@@ -124,8 +125,9 @@ class Path {
 class SceneReader {
  public:
   SceneReader(const json::Document& doc, std::filesystem::path base_dir,
-              size_t memory_budget = default_memory_budget(), const AttachedMeshes* attached = nullptr)
-      : doc_(doc), base_dir_(std::move(base_dir)), attached_(attached), memory_budget_(memory_budget) {}
+              size_t memory_budget = default_memory_budget(), const AttachedMeshes* attached = nullptr,
+              FileCache* files = nullptr)
+      : doc_(doc), base_dir_(std::move(base_dir)), attached_(attached), memory_budget_(memory_budget), files_(files) {}
 
   // With `errors`, problems are collected (one per material, light, object
   // or section) and reading goes on; without, the first one is thrown.
@@ -501,7 +503,7 @@ class SceneReader {
   uint32_t texture_image(const std::filesystem::path& file) {
     const std::string key = file_key(file);
     if (auto it = texture_image_index_.find(key); it != texture_image_index_.end()) return it->second;
-    scene_.texture_images.push_back(load_texture_image(file));
+    scene_.texture_images.push_back(files_ ? *files_->texture(file) : load_texture_image(file));
     const auto index = static_cast<uint32_t>(scene_.texture_images.size() - 1);
     texture_image_index_[key] = index;
     return index;
@@ -678,7 +680,9 @@ class SceneReader {
     // A format this build leaves out (GLINT_ASSIMP=OFF) is refused at the key that names it.
     if (const std::string missing = missing_mesh_support(file); !missing.empty())
       fail(v, path, quote_text(file.string()) + ": " + missing);
-    MeshFile loaded = load_mesh_file(file, memory_budget_, smooth_mesh_files_.count(cache_key) > 0);
+    const bool vertex_normals = smooth_mesh_files_.count(cache_key) > 0;
+    MeshFile loaded = files_ ? *files_->mesh(file, memory_budget_, vertex_normals)
+                             : load_mesh_file(file, memory_budget_, vertex_normals);
     for (std::string& w : loaded.warnings) scene_.warnings.push_back(std::move(w));
     // The file's textures join the scene's; one that cannot be read is a
     // warning and its material keeps its color (the contract: defaults used).
@@ -1195,6 +1199,7 @@ class SceneReader {
   std::set<std::string> smooth_mesh_files_;      // canonical paths some object shades smoothly
   std::map<std::string, uint32_t> texture_image_index_;  // canonical path -> Scene::texture_images
   size_t memory_budget_;
+  FileCache* files_;  // or nullptr: read every file
   size_t mesh_vertices_ = 0, mesh_triangles_ = 0;  // of every mesh file loaded
   Scene scene_;
   std::map<std::string, uint32_t, std::less<>> material_index_;
@@ -1227,10 +1232,10 @@ void check_image_size(int width, int height, const SourceLocation& where) {
 }
 
 Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir,
-                  size_t memory_budget, const AttachedMeshes* attached) {
+                  size_t memory_budget, const AttachedMeshes* attached, FileCache* files) {
   const json::Document doc = json::parse(std::move(text), filename);
   try {
-    return SceneReader(doc, base_dir, memory_budget, attached).read();
+    return SceneReader(doc, base_dir, memory_budget, attached, files).read();
   } catch (const std::bad_alloc&) {
     throw Error(SourceLocation{filename, 0, 0}, "out of memory while loading the scene");
   }
@@ -1270,13 +1275,14 @@ std::vector<Error> validate_scene(const std::filesystem::path& path) {
   return errors;
 }
 
-Scene load_scene(const std::filesystem::path& path) {
-  if (is_nff_path(path)) return load_nff_scene(path);
+Scene load_scene(const std::filesystem::path& path, FileCache* files) {
+  if (is_nff_path(path)) return load_nff_scene(path);  // an NFF names no other file
   // A bare mesh file is framed by a fixed rig (io/mesh_scene.h).
-  if (is_mesh_file(path)) return parse_scene(mesh_scene_json(path), path.string(), path.parent_path());
+  if (is_mesh_file(path))
+    return parse_scene(mesh_scene_json(path), path.string(), path.parent_path(), default_memory_budget(), nullptr, files);
   const json::Document doc = json::parse_file(path.string());
   try {
-    return SceneReader(doc, path.parent_path()).read();
+    return SceneReader(doc, path.parent_path(), default_memory_budget(), nullptr, files).read();
   } catch (const std::bad_alloc&) {
     throw Error(SourceLocation{path.string(), 0, 0}, "out of memory while loading the scene");
   }

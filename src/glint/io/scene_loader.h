@@ -19,6 +19,8 @@
 
 namespace glint {
 
+class FileCache;
+
 namespace json {
 class Document;
 }
@@ -36,7 +38,8 @@ inline constexpr const char* kAttachedMeshKey = "$arrays";
 using AttachedMeshes = std::map<uint64_t, std::shared_ptr<const api::MeshArrays>>;
 
 // A path ending in .nff (any case) is read as an NFF file (docs/nff.md).
-Scene load_scene(const std::filesystem::path& path);
+// With `files`, mesh and texture files come from that cache (file_cache.h).
+Scene load_scene(const std::filesystem::path& path, FileCache* files = nullptr);
 
 // Every problem load_scene would find, in file order, without stopping at the
 // first (one per material, light, object or section; a JSON syntax error ends
@@ -45,7 +48,8 @@ std::vector<Error> validate_scene(const std::filesystem::path& path);
 // `filename` is what messages name; relative paths inside resolve against
 // base_dir. Mesh files, each alone and all together, must fit memory_budget.
 Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir = {},
-                  size_t memory_budget = default_memory_budget(), const AttachedMeshes* attached = nullptr);
+                  size_t memory_budget = default_memory_budget(), const AttachedMeshes* attached = nullptr,
+                  FileCache* files = nullptr);
 
 // A document built in memory (json::DocumentBuilder; the NFF reader's), through
 // the same checks as a file's; read_scene_document throws the first problem,

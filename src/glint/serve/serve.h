@@ -5,6 +5,10 @@
 // events; the scene file and the files it names are watched.
 #pragma once
 
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 
 namespace glint::serve {
@@ -14,6 +18,46 @@ struct ServeOptions {
   std::string host = "127.0.0.1";
   int port = 8000;  // 0: any free port (the address printed says which)
   int threads = 0;  // render threads; 0: all cores
+};
+
+// What the server has done so far (GET /api/state has it as "stats").
+struct ServerStats {
+  uint64_t version = 0;        // changes of the scene or the view
+  uint64_t scene_version = 0;  // changes of the scene
+  int tabs = 0;                // open event streams
+  bool rendering = false;
+  uint64_t renders = 0;        // renders begun (a coarse and a full frame, or a re-encoding)
+  uint64_t frames = 0;         // frames published, coarse and full
+  uint64_t full_frames = 0;
+  uint64_t full_frame_scene_version = 0;  // the scene version the newest full frame shows
+  uint64_t file_reads = 0;     // mesh and texture files read from disk (not from the cache)
+  int builds = 0;              // acceleration structures built: only when the geometry changed
+};
+
+// One preview server. The constructor loads the scene and binds the port
+// (throwing glint::Error when either fails); start() serves on a thread of
+// its own until stop() or the destructor. run() is the command line's.
+class Server {
+ public:
+  explicit Server(const ServeOptions& options);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  int port() const;
+  std::string url() const;  // "http://127.0.0.1:PORT/"
+  void start();
+  void stop();
+
+  ServerStats stats() const;
+  // Waits until `condition` holds, checking it at each change of the
+  // server's state (no polling); false if `timeout` passed first.
+  bool wait_until(const std::function<bool(const ServerStats&)>& condition, std::chrono::milliseconds timeout);
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
 };
 
 // Runs until SIGINT or SIGTERM. Prints "glint serve: http://HOST:PORT/" on

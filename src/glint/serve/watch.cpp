@@ -22,7 +22,7 @@ fs::path absolute_path(const fs::path& p) {
 }
 }  // namespace
 
-FileWatcher::FileWatcher(std::function<void()> on_change, int settle_ms)
+FileWatcher::FileWatcher(OnChange on_change, int settle_ms)
     : on_change_(std::move(on_change)), settle_ms_(settle_ms) {
   inotify_fd_ = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
   wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -58,16 +58,18 @@ void FileWatcher::set_files(const std::vector<fs::path>& files) {
 
 void FileWatcher::loop() {
   alignas(inotify_event) char buffer[16384];
-  bool pending = false;
+  std::set<fs::path> changed;  // since the burst began
   while (!stop_) {
+    const bool pending = !changed.empty();
     pollfd fds[2] = {{inotify_fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
     // Blocks with no timeout (no CPU) until something happens; a pending
     // change waits for the burst to settle.
     const int ready = poll(fds, 2, pending ? settle_ms_ : -1);
     if (stop_) break;
     if (ready == 0) {
-      pending = false;
-      on_change_();
+      const std::vector<fs::path> files(changed.begin(), changed.end());
+      changed.clear();
+      on_change_(files);
       continue;
     }
     if (ready < 0) continue;  // EINTR
@@ -79,9 +81,14 @@ void FileWatcher::loop() {
       for (ssize_t at = 0; at < n;) {
         const auto* event = reinterpret_cast<const inotify_event*>(buffer + at);
         at += static_cast<ssize_t>(sizeof(inotify_event) + event->len);
+        if (event->mask & IN_Q_OVERFLOW) {  // events were lost: any file may have changed
+          changed.insert(files_.begin(), files_.end());
+          continue;
+        }
         auto folder = folders_.find(event->wd);
         if (folder == folders_.end() || event->len == 0) continue;
-        if (files_.count(folder->second / event->name)) pending = true;
+        const fs::path file = folder->second / event->name;
+        if (files_.count(file)) changed.insert(file);
       }
     }
   }

@@ -19,8 +19,10 @@ namespace glint::serve {
 class FileWatcher {
  public:
   // `on_change` runs on the watcher's thread once a burst of changes has
-  // settled (no event for `settle_ms`), so one save is one call.
-  explicit FileWatcher(std::function<void()> on_change, int settle_ms = 40);
+  // settled (no event for `settle_ms`), so one save is one call; it gets
+  // the watched files that changed (absolute paths).
+  using OnChange = std::function<void(const std::vector<std::filesystem::path>& changed)>;
+  explicit FileWatcher(OnChange on_change, int settle_ms = 40);
   ~FileWatcher();
   FileWatcher(const FileWatcher&) = delete;
   FileWatcher& operator=(const FileWatcher&) = delete;
@@ -31,7 +33,7 @@ class FileWatcher {
  private:
   void loop();
 
-  std::function<void()> on_change_;
+  OnChange on_change_;
   int settle_ms_;
   int inotify_fd_ = -1, wake_fd_ = -1;
   std::mutex mutex_;
