@@ -35,6 +35,7 @@
 #endif
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
+#include "glint/util/strings.h"
 #include "glint/io/file_io.h"
 #ifdef GLINT_HAVE_SERVE
 #include "glint/serve/serve.h"

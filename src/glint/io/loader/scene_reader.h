@@ -26,6 +26,7 @@
 #include "glint/io/memory_limit.h"
 #include "glint/io/scene_loader.h"
 #include "glint/scene/scene.h"
+#include "glint/util/strings.h"
 
 namespace glint::loader {
 
