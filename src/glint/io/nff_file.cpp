@@ -15,7 +15,7 @@
 
 #include "glint/io/file_io.h"
 #include "glint/math/vec3.h"
-#include "glint/render/camera.h"
+#include "glint/scene/scene.h"
 
 namespace glint {
 

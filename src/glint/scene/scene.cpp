@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace glint {
 
@@ -73,6 +74,16 @@ uint32_t add_box(Scene& scene, const Box& box, uint32_t material,
   scene.boxes.push_back(box);
   return add_object(scene, ShapeType::box, scene.boxes.size() - 1, material,
                     add_transform(scene, transform));
+}
+
+double fov_y_for_row_center_angle(double row_center_angle, int height) {
+  if (height < 2) return row_center_angle;
+  const double half = 0.5 * row_center_angle * std::numbers::pi / 180.0;
+  return 2.0 * std::atan(std::tan(half) * height / (height - 1.0)) * 180.0 / std::numbers::pi;
+}
+
+double camera_fov_y(const Camera& camera, int height) {
+  return camera.row_center_angle ? fov_y_for_row_center_angle(*camera.row_center_angle, height) : camera.fov_y;
 }
 
 Cone make_cone(const Vec3& base, const Vec3& apex, double base_radius, double apex_radius, bool caps) {

@@ -62,11 +62,19 @@ struct Camera {
   double view_height = 2.0;  // world units, orthographic
   // Degrees between the centers of the first and last pixel rows (an NFF
   // view's `angle`). When set, the perspective fov_y is derived from it for
-  // the height actually rendered (camera_fov_y in render/camera.h), so a
+  // the height actually rendered (camera_fov_y below), so a
   // --height override keeps the file's view; fov_y then holds the value for
   // the file's own resolution. Not a JSON key: only NFF scenes set it.
   std::optional<double> row_center_angle;
 };
+
+// The vertical field of view, degrees, of an image `height` rows high:
+// camera.fov_y, or for a camera with a row_center_angle a (the NFF view) the
+// fov_y with tan(fov_y/2) = tan(a/2) * H/(H - 1), which puts the centers of
+// the first and last rows a apart. One row has no such span: a is then
+// taken edge to edge.
+double camera_fov_y(const Camera& camera, int height);
+double fov_y_for_row_center_angle(double row_center_angle, int height);
 
 // Surface coordinates for textures (docs/scene-format.md: "Textures").
 struct UV {
