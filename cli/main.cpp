@@ -37,6 +37,7 @@
 #include "glint/render/resume.h"
 #include "glint/util/strings.h"
 #include "glint/io/file_io.h"
+#include "glint/io/image_file.h"
 #ifdef GLINT_HAVE_SERVE
 #include "glint/serve/serve.h"
 #endif
