@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "glint/scene/scene.h"
+#include "glint/geometry/shape_types.h"
 
 namespace glint {
 

@@ -86,24 +86,6 @@ double camera_fov_y(const Camera& camera, int height) {
   return camera.row_center_angle ? fov_y_for_row_center_angle(*camera.row_center_angle, height) : camera.fov_y;
 }
 
-Cone make_cone(const Vec3& base, const Vec3& apex, double base_radius, double apex_radius, bool caps) {
-  Cone c;
-  c.base = base;
-  c.apex = apex;
-  c.base_radius = base_radius;
-  c.apex_radius = apex_radius;
-  c.caps = caps;
-  const Vec3 d = apex - base;
-  c.length = length(d);
-  c.axis = d / c.length;
-  // u = 0 lies along the plane frame's e_u of the axis (as for a plane with
-  // that normal): +x for a +y axis.
-  const Vec3& a = c.axis;
-  const bool y_largest = std::abs(a.y) >= std::abs(a.x) && std::abs(a.y) >= std::abs(a.z);
-  c.ref_u = normalize(cross(a, y_largest ? Vec3(0, 0, 1) : Vec3(0, -1, 0)));
-  return c;
-}
-
 uint32_t add_cone(Scene& scene, const Cone& cone, uint32_t material, const std::optional<Transform>& transform,
                   bool cylinder) {
   scene.cones.push_back(cone);

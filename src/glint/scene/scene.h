@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "glint/geometry/shape_types.h"
 #include "glint/math/bounds.h"
 #include "glint/math/transform.h"
 #include "glint/scene/animation.h"
@@ -155,48 +156,8 @@ inline const char* shape_type_name(ShapeType t) {
   return kNames[static_cast<int>(t)];
 }
 
-struct Sphere { Vec3 center; double radius = 1.0; };
-struct Plane { Vec3 point; Vec3 normal{0, 1, 0}; };  // world space, unit normal
-struct Triangle { Vec3 v0, v1, v2; };                 // world space
-struct Box { Vec3 lo, hi; };                          // object space
+// Sphere, Plane, Triangle, Box, Cone, Disk and Polygon: geometry/shape_types.h.
 
-// A cone frustum between two disks on its axis, in object space: `base` with
-// base_radius and `apex` with apex_radius (one of them may be 0: a pointed
-// cone). A cylinder is the same shape with equal radii, so both object types
-// use this struct and Scene::cones. The axis frame is derived once by
-// make_cone, for the intersection test and (u, v).
-struct Cone {
-  Vec3 base, apex;
-  double base_radius = 1, apex_radius = 1;
-  bool caps = true;  // closed by a disk at each end whose radius is > 0
-  // Derived (make_cone): unit axis from base to apex, its length, and a
-  // unit reference direction across the axis where u = 0 (docs: "Surface coordinates").
-  Vec3 axis{0, 1, 0};
-  double length = 1;
-  Vec3 ref_u{1, 0, 0};
-};
-Cone make_cone(const Vec3& base, const Vec3& apex, double base_radius, double apex_radius, bool caps);
-
-// A flat ring in object space: the points of the plane through `center`
-// with unit `normal` whose distance from the center is in [inner_radius, radius].
-struct Disk {
-  Vec3 center;
-  Vec3 normal{0, 1, 0};
-  double radius = 1, inner_radius = 0;
-};
-
-// A simple planar polygon in object space, triangulated once (a fan when
-// convex, ear clipping otherwise) so that rays meet it through the watertight
-// triangle test. `normal` is the right-hand-rule normal of the first three
-// vertices (unit); `normals`, when given, are unit vertex normals for smooth
-// shading (the polygon is then convex and `triangles` is the fan (0, i, i+1)).
-struct Polygon {
-  std::vector<Vec3> vertices;
-  std::vector<Vec3> normals;
-  std::vector<std::array<uint32_t, 3>> triangles;
-  Vec3 normal{0, 0, 1};
-  Bounds3 bounds;
-};
 
 // A triangle mesh in its own space, loaded once per file and shared by every
 // object that uses it (each object an instance with its own transform).
