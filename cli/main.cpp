@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "glint/error.h"
-#include "glint/io/scene_loader.h"
+#include "glint/util/strings.h"
 #include "glint/version.h"
 #include "options.h"
 

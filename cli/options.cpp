@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "glint/io/scene_loader.h"
+#include "glint/util/strings.h"
 
 namespace glint::cli {
 

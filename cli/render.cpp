@@ -22,6 +22,7 @@
 #include "glint/error.h"
 #include "glint/image/image.h"
 #include "glint/io/file_io.h"
+#include "glint/io/image_file.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/frame_job.h"
 #include "glint/render/frames.h"

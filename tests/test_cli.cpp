@@ -26,6 +26,7 @@
 #include "glint/image/image.h"
 #include "glint/io/scene_loader.h"
 #include "glint/io/file_io.h"
+#include "glint/io/image_file.h"
 #include "glint/render/passes.h"
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"

@@ -14,6 +14,7 @@
 
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
+#include "glint/io/image_file.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/frames.h"
 #include "glint/render/renderer.h"

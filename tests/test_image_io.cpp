@@ -22,6 +22,7 @@
 
 #include "glint/error.h"
 #include "glint/image/image.h"
+#include "glint/io/image_file.h"
 
 namespace fs = std::filesystem;
 using glint::Image;

@@ -24,6 +24,7 @@
 #include "glint/error.h"
 #include "glint/glint.h"
 #include "glint/image/image.h"
+#include "glint/io/image_file.h"
 #include "glint/io/json.h"
 #include "glint/io/nff_file.h"
 #include "glint/io/scene_loader.h"

@@ -17,6 +17,7 @@
 
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
+#include "glint/io/image_file.h"
 #include "glint/io/mesh_file.h"
 #include "glint/io/scene_loader.h"
 #include "glint/io/texture_file.h"

@@ -8,6 +8,7 @@
 #include "glint/accel/accelerator.h"
 #include "glint/api/scene_state.h"
 #include "glint/image/image.h"
+#include "glint/io/image_file.h"
 #include "glint/io/scene_loader.h"
 #include "glint/render/explain.h"
 #include "glint/render/passes.h"

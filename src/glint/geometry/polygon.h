@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "glint/scene/scene.h"
+#include "glint/geometry/shape_types.h"
 
 namespace glint {
 
@@ -20,7 +20,7 @@ inline constexpr double kPolygonPlanarity = 1e-5;
 // clipped, both quadratic in the vertex count: more vertices than this are refused.
 inline constexpr size_t kMaxNonConvexPolygonVertices = 10000;
 
-// Polygons of at least this many triangles get a PolygonGrid (scene.h): a
+// Polygons of at least this many triangles get a PolygonGrid (geometry/shape_types.h): a
 // ray then tests the triangles near where it meets the plane, in the same
 // order, so it finds the same hit as testing all of them.
 inline constexpr size_t kPolygonGridMinTriangles = 8;

@@ -9,7 +9,7 @@
 
 #include "glint/geometry/triangle_shear.h"
 #include "glint/math/ray.h"
-#include "glint/scene/scene.h"
+#include "glint/geometry/shape_types.h"
 
 namespace glint {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "glint/math/ray.h"
-#include "glint/scene/scene.h"
+#include "glint/geometry/shape_types.h"
 
 namespace glint {
 

@@ -1,14 +1,10 @@
-// glint::Image and its file formats: the float RGB frame the renderer fills,
-// the sRGB transfer functions, and reading/writing .png .jpg .ppm .pfm .exr.
-// Writes are atomic (temp file + rename), so a failed write never damages an existing file.
+// glint::Image: the float RGB frame the renderer fills, and the pixel math on
+// it (the sRGB transfer functions, tone maps). Plain data: reading and writing
+// image files is io/image_file.h.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
-#include <filesystem>
-#include <map>
-#include <optional>
-#include <string>
-#include <string_view>
 #include <vector>
 
 namespace glint {
@@ -26,12 +22,12 @@ struct Image {
   const float* pixel(int x, int y) const;
 };
 
-enum class ImageFormat { png, jpg, ppm, pfm, exr, hdr };
-
-// By extension, case-insensitive; nullopt for anything else (including no extension).
-std::optional<ImageFormat> image_format_for_path(const std::filesystem::path& path);
-// ".png, .jpg, .ppm, .pfm, .exr, .hdr", for error messages.
-std::string_view supported_image_extensions();
+// Keeps 3*width*height within int (stb and tinyexr take int sizes) and stops a
+// corrupt header from asking for an absurd allocation.
+inline constexpr std::size_t kMaxImagePixels = std::size_t{1} << 28;
+inline constexpr long kMaxImageDimension = 1L << 20;
+// Both sides > 0 and within the limits above: a size an image file may have.
+bool valid_image_size(long width, long height);
 
 // Clamp to [0,1] (NaN -> 0) then the standard sRGB OETF.
 float srgb_encode(float linear);
@@ -47,50 +43,5 @@ enum class ToneMap { clamp, reinhard, aces };
 // Reinhard x/(1+x); ACES: Krzysztof Narkowicz's fit of the ACES filmic curve,
 // x(2.51x+0.03) / (x(2.43x+0.59)+0.14), clamped to [0, 1]. Negative and NaN -> 0.
 float tone_map(float linear, ToneMap map);
-
-// How 8-bit outputs encode linear values. Float outputs ignore all of it.
-struct WriteOptions {
-  double exposure = 0;  // EV: linear values are multiplied by 2^exposure first
-  ToneMap tonemap = ToneMap::clamp;
-  // The values are data (normals, depths already scaled to [0,1]), not light:
-  // 8-bit code = round(clamp(v, 0, 1) * 255), no sRGB curve, no exposure, no tone map.
-  bool data = false;
-};
-
-// True for the formats that store 8-bit codes (.png .jpg .ppm); the others
-// (.pfm .exr .hdr) store linear values and are never exposed or tone-mapped.
-bool is_8bit_format(ImageFormat format);
-
-// Writes `image` in the format named by the extension of `path`:
-// .pfm/.exr exact linear float32, .hdr Radiance RGBE (8-bit mantissas, shared
-// exponent: about 1% relative precision), .png/.jpg(quality 95)/.ppm(P6) 8-bit
-// sRGB (clamped, or exposed and tone-mapped per `options`).
-// Atomic: an existing file at `path` is replaced only by a complete new file.
-// Throws glint::Error("<path>: cannot write: <reason>").
-void write_image(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
-
-// The bytes write_image writes for `format`, in memory (no file involved).
-std::vector<unsigned char> encode_image(const Image& image, ImageFormat format, const WriteOptions& options = {});
-
-// One channel of a multi-channel EXR: component `component` (0..2) of `image`.
-struct ExrChannel {
-  std::string name;  // e.g. "R", "diffuse.G", "depth.Z"
-  const Image* image = nullptr;
-  int component = 0;
-};
-// Writes the channels (any order; EXR stores them sorted by name) as one
-// float32 ZIP-compressed EXR. All images must have the same size. Atomic.
-void write_exr_channels(const std::vector<ExrChannel>& channels, const std::filesystem::path& path);
-// Every channel of an EXR file by name (float planes, row-major from the top),
-// and its size. For tests and tools.
-struct ExrPlanes {
-  int width = 0, height = 0;
-  std::map<std::string, std::vector<float>> planes;
-};
-ExrPlanes read_exr_channels(const std::filesystem::path& path);
-
-// Reads any of the six formats back into linear floats (8-bit formats are
-// sRGB-decoded). For tests and tools. Throws glint::Error("<path>: cannot read: <reason>").
-Image read_image(const std::filesystem::path& path);
 
 }  // namespace glint

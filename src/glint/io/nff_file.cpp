@@ -17,7 +17,7 @@
 #include "glint/io/json.h"
 #include "glint/io/scene_loader.h"
 #include "glint/math/vec3.h"
-#include "glint/render/camera.h"
+#include "glint/scene/scene.h"
 
 namespace glint {
 

@@ -68,7 +68,4 @@ inline constexpr int kMaxFrames = 1000000;  // animation.frames
 // Throws when a width x height float image would not fit in this machine's memory.
 void check_image_size(int width, int height, const SourceLocation& where);
 
-// The closest of `candidates` to `word` if it is a plausible typo, else "".
-std::string closest_match(std::string_view word, const std::vector<std::string_view>& candidates);
-
 }  // namespace glint

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "glint/error.h"
-#include "glint/image/image.h"
+#include "glint/io/image_file.h"
 #include "glint/io/file_io.h"
 
 namespace glint {

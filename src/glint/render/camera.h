@@ -14,14 +14,7 @@ struct CameraFrame {
   double half_width = 1, half_height = 1;  // tan(fov/2) or view_height/2, times aspect for width
 };
 
-// The vertical field of view, degrees, of an image `height` rows high:
-// camera.fov_y, or for a camera with a row_center_angle a (the NFF view) the
-// fov_y with tan(fov_y/2) = tan(a/2) * H/(H - 1), which puts the centers of
-// the first and last rows a apart. One row has no such span: a is then
-// taken edge to edge.
-double camera_fov_y(const Camera& camera, int height);
-double fov_y_for_row_center_angle(double row_center_angle, int height);
-
+// camera_fov_y (the vertical field of view at a given height) is in scene/scene.h.
 CameraFrame make_camera_frame(const Camera& camera, int width, int height);
 
 inline Ray generate_camera_ray(const CameraFrame& f, double u, double v) {

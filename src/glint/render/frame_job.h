@@ -16,6 +16,7 @@
 
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
+#include "glint/io/image_file.h"
 #include "glint/render/passes.h"
 #include "glint/render/renderer.h"
 #include "glint/scene/scene.h"

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "glint/error.h"
-#include "glint/io/scene_loader.h"
+#include "glint/util/strings.h"
 
 namespace glint {
 

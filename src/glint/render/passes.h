@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "glint/image/image.h"
+#include "glint/io/image_file.h"
 
 namespace glint {
 

@@ -3,7 +3,7 @@
 // or a checkerboard). The conventions are in docs/scene-format.md, "Textures".
 #pragma once
 
-#include "glint/accel/accelerator.h"
+#include "glint/geometry/hit.h"
 #include "glint/scene/scene.h"
 
 namespace glint {

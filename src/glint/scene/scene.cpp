@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace glint {
 
@@ -75,22 +76,14 @@ uint32_t add_box(Scene& scene, const Box& box, uint32_t material,
                     add_transform(scene, transform));
 }
 
-Cone make_cone(const Vec3& base, const Vec3& apex, double base_radius, double apex_radius, bool caps) {
-  Cone c;
-  c.base = base;
-  c.apex = apex;
-  c.base_radius = base_radius;
-  c.apex_radius = apex_radius;
-  c.caps = caps;
-  const Vec3 d = apex - base;
-  c.length = length(d);
-  c.axis = d / c.length;
-  // u = 0 lies along the plane frame's e_u of the axis (as for a plane with
-  // that normal): +x for a +y axis.
-  const Vec3& a = c.axis;
-  const bool y_largest = std::abs(a.y) >= std::abs(a.x) && std::abs(a.y) >= std::abs(a.z);
-  c.ref_u = normalize(cross(a, y_largest ? Vec3(0, 0, 1) : Vec3(0, -1, 0)));
-  return c;
+double fov_y_for_row_center_angle(double row_center_angle, int height) {
+  if (height < 2) return row_center_angle;
+  const double half = 0.5 * row_center_angle * std::numbers::pi / 180.0;
+  return 2.0 * std::atan(std::tan(half) * height / (height - 1.0)) * 180.0 / std::numbers::pi;
+}
+
+double camera_fov_y(const Camera& camera, int height) {
+  return camera.row_center_angle ? fov_y_for_row_center_angle(*camera.row_center_angle, height) : camera.fov_y;
 }
 
 uint32_t add_cone(Scene& scene, const Cone& cone, uint32_t material, const std::optional<Transform>& transform,

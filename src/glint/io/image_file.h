@@ -1,0 +1,69 @@
+// Image files: .png .jpg .ppm .pfm .exr .hdr written from and read into a
+// glint::Image (image/image.h), and layered EXRs.
+// Writes are atomic (temp file + rename), so a failed write never damages an existing file.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "glint/image/image.h"
+
+namespace glint {
+
+enum class ImageFormat { png, jpg, ppm, pfm, exr, hdr };
+
+// By extension, case-insensitive; nullopt for anything else (including no extension).
+std::optional<ImageFormat> image_format_for_path(const std::filesystem::path& path);
+// ".png, .jpg, .ppm, .pfm, .exr, .hdr", for error messages.
+std::string_view supported_image_extensions();
+
+// How 8-bit outputs encode linear values. Float outputs ignore all of it.
+struct WriteOptions {
+  double exposure = 0;  // EV: linear values are multiplied by 2^exposure first
+  ToneMap tonemap = ToneMap::clamp;
+  // The values are data (normals, depths already scaled to [0,1]), not light:
+  // 8-bit code = round(clamp(v, 0, 1) * 255), no sRGB curve, no exposure, no tone map.
+  bool data = false;
+};
+
+// True for the formats that store 8-bit codes (.png .jpg .ppm); the others
+// (.pfm .exr .hdr) store linear values and are never exposed or tone-mapped.
+bool is_8bit_format(ImageFormat format);
+
+// Writes `image` in the format named by the extension of `path`:
+// .pfm/.exr exact linear float32, .hdr Radiance RGBE (8-bit mantissas, shared
+// exponent: about 1% relative precision), .png/.jpg(quality 95)/.ppm(P6) 8-bit
+// sRGB (clamped, or exposed and tone-mapped per `options`).
+// Atomic: an existing file at `path` is replaced only by a complete new file.
+// Throws glint::Error("<path>: cannot write: <reason>").
+void write_image(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
+
+// The bytes write_image writes for `format`, in memory (no file involved).
+std::vector<unsigned char> encode_image(const Image& image, ImageFormat format, const WriteOptions& options = {});
+
+// One channel of a multi-channel EXR: component `component` (0..2) of `image`.
+struct ExrChannel {
+  std::string name;  // e.g. "R", "diffuse.G", "depth.Z"
+  const Image* image = nullptr;
+  int component = 0;
+};
+// Writes the channels (any order; EXR stores them sorted by name) as one
+// float32 ZIP-compressed EXR. All images must have the same size. Atomic.
+void write_exr_channels(const std::vector<ExrChannel>& channels, const std::filesystem::path& path);
+// Every channel of an EXR file by name (float planes, row-major from the top),
+// and its size. For tests and tools.
+struct ExrPlanes {
+  int width = 0, height = 0;
+  std::map<std::string, std::vector<float>> planes;
+};
+ExrPlanes read_exr_channels(const std::filesystem::path& path);
+
+// Reads any of the six formats back into linear floats (8-bit formats are
+// sRGB-decoded). For tests and tools. Throws glint::Error("<path>: cannot read: <reason>").
+Image read_image(const std::filesystem::path& path);
+
+}  // namespace glint
