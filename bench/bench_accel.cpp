@@ -78,8 +78,8 @@ glint::Mesh make_terrain(size_t target_triangles) {
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
       const double x = -1.5 + 3.0 * i / n, z = -1.5 + 3.0 * j / n;
-      mesh.positions.push_back(glint::Vec3f{static_cast<float>(x), static_cast<float>(height(x, z)),
-                                            static_cast<float>(z)});
+      mesh.positions.push_back(
+          glint::Vec3f{static_cast<float>(x), static_cast<float>(height(x, z)), static_cast<float>(z)});
     }
   mesh.indices.reserve(6 * static_cast<size_t>(n) * n);
   for (int j = 0; j < n; ++j)
@@ -447,7 +447,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   const std::vector<size_t> sizes = parse_list(sizes_arg);
   const std::vector<size_t> thread_counts = parse_list(threads_arg);
-  auto wanted = [&](const char* kind) { return ("," + kinds_arg + ",").find("," + std::string(kind) + ",") != std::string::npos; };
+  auto wanted = [&](const char* kind) {
+    return ("," + kinds_arg + ",").find("," + std::string(kind) + ",") != std::string::npos;
+  };
   const bool want_camera = wanted("camera"), want_shadow = wanted("shadow"), want_mirror = wanted("mirror"),
              want_packets = wanted("packets");
 
@@ -467,16 +469,15 @@ int main(int argc, char** argv) {
     kernels.push_back(mesh_bvh_kernel(scene));
 #if GLINT_HAVE_EMBREE
     if (!only_ours) {
-    kernels.push_back(accelerator_kernel("glint-embree", scene, glint::AccelBackend::embree, g_keep_embree_backend));
-    kernels.push_back(embree_kernel(scene));
-    kernels.push_back(embree_kernel(scene, true));
+      kernels.push_back(accelerator_kernel("glint-embree", scene, glint::AccelBackend::embree, g_keep_embree_backend));
+      kernels.push_back(embree_kernel(scene));
+      kernels.push_back(embree_kernel(scene, true));
     }
 #endif
     std::printf("rays: %zu camera, %zu shadow, %zu mirror\n", rays.camera.size(), rays.shadow.size(),
                 rays.mirror.size());
     std::printf("%-13s %8s %9s %9s", "kernel", "build s", "B/tri", "peak B/tri");
-    for (size_t t : thread_counts)
-      std::printf(" | %zuT: camera  shadow  mirror  cam-pkt", t);
+    for (size_t t : thread_counts) std::printf(" | %zuT: camera  shadow  mirror  cam-pkt", t);
     std::printf("\n");
     std::vector<std::vector<double>> results;
     for (const Kernel& k : kernels) {
@@ -515,8 +516,8 @@ int main(int argc, char** argv) {
           const double* a = &results[row][4 * i];
           const double* b = &results[3][4 * i];
           auto ratio = [](double x, double y) { return y > 0 ? x / y : 0.0; };
-          std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", ratio(a[0], b[0]), ratio(a[1], b[1]),
-                      ratio(a[2], b[2]), ratio(a[3], b[3]));
+          std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", ratio(a[0], b[0]), ratio(a[1], b[1]), ratio(a[2], b[2]),
+                      ratio(a[3], b[3]));
         }
         std::printf("\n");
       }

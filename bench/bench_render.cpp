@@ -12,9 +12,7 @@
 
 namespace {
 
-std::string scene_path(const char* name) {
-  return std::string(GLINT_SOURCE_DIR) + "/scenes/" + name;
-}
+std::string scene_path(const char* name) { return std::string(GLINT_SOURCE_DIR) + "/scenes/" + name; }
 
 void render_scene(benchmark::State& state, const std::string& path) {
   glint::Scene scene = glint::load_scene(path);

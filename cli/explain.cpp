@@ -35,9 +35,10 @@ int run_explain(const ExplainArgs& args) {
   if (args.width) r.width = *args.width;
   if (args.height) r.height = *args.height;
   if (args.max_depth) r.max_depth = *args.max_depth;
-  if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
-  r.samples_per_pixel = 1;  // explain follows the pixel's center ray
-  r.adaptive.reset();       // (of a render at one sample per pixel, so never refined)
+  if (args.shading_model)
+    r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
+  r.samples_per_pixel = 1;                      // explain follows the pixel's center ray
+  r.adaptive.reset();                           // (of a render at one sample per pixel, so never refined)
   const auto accel = build_accelerator(scene);  // render's default kernel: the numbers match its pixels
   const PixelExplanation e = explain_pixel(scene, *accel, args.pixel.at(0), args.pixel.at(1));
   const std::string text = args.json ? explanation_json(scene, e) : explanation_text(scene, e);

@@ -25,11 +25,10 @@ double texture_bytes(const Scene& scene) {
 double mesh_bytes(const Scene& scene) {
   double bytes = static_cast<double>(scene.meshes.capacity() * sizeof(Mesh));
   for (const Mesh& m : scene.meshes)
-    bytes += static_cast<double>(m.positions.capacity() * sizeof(Vec3f) +
-                                 m.indices.capacity() * sizeof(uint32_t) +
-                                 m.corner_normals.capacity() * sizeof(Vec3f) +
-                                 m.triangle_material.capacity() * sizeof(uint32_t) +
-                                 m.corner_uvs.capacity() * sizeof(UVf));
+    bytes +=
+        static_cast<double>(m.positions.capacity() * sizeof(Vec3f) + m.indices.capacity() * sizeof(uint32_t) +
+                            m.corner_normals.capacity() * sizeof(Vec3f) +
+                            m.triangle_material.capacity() * sizeof(uint32_t) + m.corner_uvs.capacity() * sizeof(UVf));
   return bytes;
 }
 
@@ -72,11 +71,12 @@ int run_info(const std::string& scene_path) {
               filters[static_cast<int>(r.pixel_filter.type)], r.max_depth,
               r.shading_model == ShadingModel::phong ? "phong" : "blinn-phong");
   const auto count = [&](ShapeType t) { return by_type[static_cast<int>(t)]; };
-  std::printf("objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes, %zu meshes (%zu triangles), "
-              "%zu cylinders, %zu cones, %zu disks, %zu polygons\n",
-              scene.objects.size(), count(ShapeType::sphere), count(ShapeType::plane), count(ShapeType::triangle),
-              count(ShapeType::box), count(ShapeType::mesh), mesh_triangles, count(ShapeType::cylinder),
-              count(ShapeType::cone), count(ShapeType::disk), count(ShapeType::polygon));
+  std::printf(
+      "objects    %zu: %zu spheres, %zu planes, %zu triangles, %zu boxes, %zu meshes (%zu triangles), "
+      "%zu cylinders, %zu cones, %zu disks, %zu polygons\n",
+      scene.objects.size(), count(ShapeType::sphere), count(ShapeType::plane), count(ShapeType::triangle),
+      count(ShapeType::box), count(ShapeType::mesh), mesh_triangles, count(ShapeType::cylinder), count(ShapeType::cone),
+      count(ShapeType::disk), count(ShapeType::polygon));
   std::printf("lights     %zu: %zu ambient, %zu point, %zu directional, %zu spot, %zu area\n", scene.lights.size(),
               lights_by_type[0], lights_by_type[1], lights_by_type[2], lights_by_type[3], lights_by_type[4]);
   std::printf("materials  %zu (and the default)\n", scene.materials.size() - 1);

@@ -45,9 +45,8 @@ int main(int argc, char** argv) {
   // the command is linked with the library it was built with.
   app.set_version_flag("--version", std::string("glint ") + glint::version(), "print the version and exit");
   const std::vector<glint::cli::Command> commands = {
-      glint::cli::add_render_command(app),   glint::cli::add_convert_command(app),
-      glint::cli::add_validate_command(app), glint::cli::add_info_command(app),
-      glint::cli::add_explain_command(app),
+      glint::cli::add_render_command(app), glint::cli::add_convert_command(app), glint::cli::add_validate_command(app),
+      glint::cli::add_info_command(app),   glint::cli::add_explain_command(app),
 #ifdef GLINT_HAVE_SERVE
       glint::cli::add_serve_command(app),
 #endif

@@ -60,7 +60,7 @@ struct RenderArgs {
   std::optional<double> adaptive_threshold;
   std::optional<std::string> frames;  // "N" or "A-B"
   bool skip_existing = false;
-  std::optional<double> rank_timeout;  // under MPI
+  std::optional<double> rank_timeout;     // under MPI
   std::optional<std::string> stats_json;  // --stats-json FILE
 };
 
@@ -122,7 +122,8 @@ void apply_overrides(const RenderArgs& args, RenderSettings& r) {
   if (args.height) r.height = *args.height;
   if (args.spp) r.samples_per_pixel = *args.spp;
   if (args.max_depth) r.max_depth = *args.max_depth;
-  if (args.shading_model) r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
+  if (args.shading_model)
+    r.shading_model = *args.shading_model == "phong" ? ShadingModel::phong : ShadingModel::blinn_phong;
   if (args.width || args.height) check_image_size(r.width, r.height, SourceLocation{});
   if (args.pixel_filter) {
     // A named filter with its default parameters, replacing the scene's.
@@ -206,8 +207,7 @@ void write_stats_json(const std::string& path, const RenderArgs& args, const std
       {"seconds", {{"load", t.load}, {"build", t.build}, {"render", t.render}, {"write", t.write}, {"total", t.total}}},
   };
   const std::string text = doc.dump(2) + "\n";
-  write_file_atomically(path, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()),
-                        Flush::no);
+  write_file_atomically(path, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()), Flush::no);
 }
 
 // The statistics line of a finished frame (and adaptive sampling's).
@@ -225,8 +225,8 @@ void print_frame_stats(const RenderArgs& args, const std::string& output, const 
                format_count(rays.refraction).c_str(), format_count(rays.camera_hits).c_str(),
                stats.seconds > 0 ? rays.total() / stats.seconds / 1e6 : 0.0);
   if (r.adaptive)
-    std::fprintf(stderr, "glint: adaptive: %zu of %zu pixels (%.1f%%) rendered again at %d spp\n",
-                 stats.refined_pixels, report.pixels,
+    std::fprintf(stderr, "glint: adaptive: %zu of %zu pixels (%.1f%%) rendered again at %d spp\n", stats.refined_pixels,
+                 report.pixels,
                  report.pixels == 0 ? 0.0 : 100.0 * static_cast<double>(stats.refined_pixels) / report.pixels,
                  r.adaptive->max_samples_per_pixel);
 }
@@ -257,8 +257,10 @@ Scene load_for_render(const RenderArgs& args, uint64_t& inputs_digest) {
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     const std::string first_output = frame_output_path(args.output_path, 0).value_or(args.output_path);
     if (!is_8bit_format(*image_format_for_path(first_output)) && (args.exposure || args.tonemap))
-      std::fprintf(stderr, "warning: %s holds linear values: --exposure and --tonemap apply to 8-bit outputs "
-                   "(.png .jpg .ppm) only and are ignored\n", args.output_path.c_str());
+      std::fprintf(stderr,
+                   "warning: %s holds linear values: --exposure and --tonemap apply to 8-bit outputs "
+                   "(.png .jpg .ppm) only and are ignored\n",
+                   args.output_path.c_str());
   }
   inputs_digest = scene_inputs_digest(read_file(args.scene_path), scene);
   return scene;
@@ -288,8 +290,7 @@ int run_render_local(const RenderArgs& args) {
   events.starting = [&](const FrameOutput& out) {
     bar.emplace();
     if (args.resume && !args.quiet && !std::filesystem::exists(resume_path_for(out.path)))
-      std::fprintf(stderr, "glint: no resume file %s: rendering from the start\n",
-                   resume_path_for(out.path).c_str());
+      std::fprintf(stderr, "glint: no resume file %s: rendering from the start\n", resume_path_for(out.path).c_str());
   };
   std::string interrupted;
   events.finished = [&](const FrameOutput& out, const FrameReport& report) {
@@ -381,7 +382,8 @@ void render_frames_on_ranks(const RenderArgs& args, const Scene& scene, uint64_t
 void print_distributed_stats(const std::string& output, const RenderSettings& r, const mpi::DistributedStats& stats,
                              int ranks, int threads, double total) {
   std::string split;
-  for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k) split += (k ? "/" : "") + std::to_string(stats.tiles_by_rank[k]);
+  for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k)
+    split += (k ? "/" : "") + std::to_string(stats.tiles_by_rank[k]);
   std::fprintf(stderr,
                "glint: %s: %dx%d, %d spp, %d ranks x %d thread%s: render %.3f s (total %.3f s); tiles by rank %s; "
                "%llu bytes sent (%llu of pixels); %.2f Mrays/s\n",
@@ -407,14 +409,18 @@ int render_tiles_on_ranks(const RenderArgs& args, const Scene& scene, const std:
                           std::chrono::steady_clock::time_point start) {
   if (args.passes || args.passes_layered || scene.render.adaptive) {
     // Tiles of one image come from every rank as image pixels only.
-    if (session.rank == 0) print_error("--passes and adaptive sampling work when frames go to ranks (more frames "
-                                       "than ranks); for a frame split in tiles over ranks, render without them");
+    if (session.rank == 0)
+      print_error(
+          "--passes and adaptive sampling work when frames go to ranks (more frames "
+          "than ranks); for a frame split in tiles over ranks, render without them");
     return 1;
   }
   if (args.resume) {
     // Tiles of one image come from every rank: there is no one resume file.
-    if (session.rank == 0) print_error("--resume works when frames go to ranks (more frames than ranks); "
-                                       "for a frame split in tiles over ranks, render it again");
+    if (session.rank == 0)
+      print_error(
+          "--resume works when frames go to ranks (more frames than ranks); "
+          "for a frame split in tiles over ranks, render it again");
     return 1;
   }
   const int threads = resolve_thread_count(args.threads.value_or(0));
@@ -490,10 +496,12 @@ Command add_render_command(CLI::App& app) {
   render->add_flag("-q,--quiet", args->quiet, "no progress bar and no statistics");
   render->add_flag("--resume", args->resume, "finish an interrupted render from OUT.glint-resume");
   render->add_option("--frames", args->frames, "animation frames to render: N or A-B (default: all)");
-  render->add_flag("--skip-existing", args->skip_existing, "do not render frames whose output exists (and is complete)");
-  render->add_option("--rank-timeout", args->rank_timeout,
-                     "under MPI: end the job when a rank holding work sends nothing for this many seconds "
-                     "(a hung rank; default 60)")
+  render->add_flag("--skip-existing", args->skip_existing,
+                   "do not render frames whose output exists (and is complete)");
+  render
+      ->add_option("--rank-timeout", args->rank_timeout,
+                   "under MPI: end the job when a rank holding work sends nothing for this many seconds "
+                   "(a hung rank; default 60)")
       ->check(number_in(0.1, 1e6));
   render->add_option("--exposure", args->exposure, "8-bit outputs: multiply linear values by 2^EV first")
       ->check(number_in(-64, 64));
@@ -501,11 +509,13 @@ Command add_render_command(CLI::App& app) {
       ->check(one_of({"clamp", "reinhard", "aces"}, "tone map"));
   render->add_option("--pixel-filter", args->pixel_filter, "box (default), gaussian or mitchell")
       ->check(one_of({"box", "gaussian", "mitchell"}, "pixel filter"));
-  render->add_option("--adaptive-max-spp", args->adaptive_max_spp,
-                     "adaptive sampling: re-render pixels that differ from a neighbour at this many samples")
+  render
+      ->add_option("--adaptive-max-spp", args->adaptive_max_spp,
+                   "adaptive sampling: re-render pixels that differ from a neighbour at this many samples")
       ->check(whole_number_in(1, kMaxSamplesPerPixel));
-  render->add_option("--adaptive-threshold", args->adaptive_threshold,
-                     "adaptive sampling: largest neighbour difference (linear, any channel) left alone (default 0.05)")
+  render
+      ->add_option("--adaptive-threshold", args->adaptive_threshold,
+                   "adaptive sampling: largest neighbour difference (linear, any channel) left alone (default 0.05)")
       ->check(number_in(0, 1e30));
   render->add_option("--passes", args->passes,
                      "extra images beside the output (OUT.<pass>.<ext>): comma-separated ambient, diffuse, specular, "
@@ -517,13 +527,13 @@ Command add_render_command(CLI::App& app) {
                      "of each phase to this JSON file");
 
   return {render, [args] {
-    try {
-      return run_render(*args);
-    } catch (const Interrupted& e) {
-      print_error(e.what);
-      return 128 + g_signal.load();
-    }
-  }};
+            try {
+              return run_render(*args);
+            } catch (const Interrupted& e) {
+              print_error(e.what);
+              return 128 + g_signal.load();
+            }
+          }};
 }
 
 }  // namespace glint::cli

@@ -10,7 +10,8 @@ namespace glint::cli {
 
 Command add_serve_command(CLI::App& app) {
   auto options = std::make_shared<serve::ServeOptions>();
-  CLI::App* serve = app.add_subcommand("serve", "live preview in the browser: edit, render and explain (docs/preview.md)");
+  CLI::App* serve =
+      app.add_subcommand("serve", "live preview in the browser: edit, render and explain (docs/preview.md)");
   serve->add_option("scene", options->scene_path, "scene file (JSON)")->required();
   serve->add_option("--port", options->port, "TCP port (0: any free port; the address is printed)")
       ->check(whole_number_in(0, 65535));

@@ -37,8 +37,7 @@ std::pair<int, int> expected_location(std::string_view text, size_t base, size_t
   return {line, static_cast<int>(offset - line_start) + 1};
 }
 
-void check_value(std::string_view text, size_t base, const glint::json::Document& doc,
-                 const glint::json::Value& v) {
+void check_value(std::string_view text, size_t base, const glint::json::Document& doc, const glint::json::Value& v) {
   using glint::json::Kind;
   const size_t at = v.offset();
   check(at >= base && at < text.size(), "value offset outside the text", at);

@@ -62,7 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // The one way bad input may fail.
   }
 
-  if (!write_scratch(data, size)) return 0;  // a full /tmp is not a finding
+  if (!write_scratch(data, size)) return 0;                                      // a full /tmp is not a finding
   const std::vector<glint::Error> errors = glint::validate_scene(scratch_file);  // throws nothing
   if (errors.empty() != loaded) {
     // Relative file references (meshes) resolved against another folder:

@@ -8,6 +8,6 @@
 
 #include "glint/io/mesh_file.h"
 
-#define GLINT_SKIP_WITHOUT_ASSIMP()                                                              \
+#define GLINT_SKIP_WITHOUT_ASSIMP()                                                                      \
   if (const std::string glint_missing = glint::missing_mesh_support("mesh.ply"); !glint_missing.empty()) \
   GTEST_SKIP() << glint_missing

@@ -45,9 +45,9 @@ TEST(WatertightTriangle, BothSidesAreHit) {
 
 TEST(WatertightTriangle, EdgesAndVerticesCountAsInside) {
   const Triangle tri{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  for (const Vec3 p : {Vec3(0.5, 0, 0), Vec3(0, 0.5, 0), Vec3(0.5, 0.5, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)})
-    EXPECT_TRUE(intersect_triangle(tri, make_ray(p + Vec3(0, 0, 3), {0, 0, -1})))
-        << "point " << p.x << " " << p.y;
+  for (const Vec3 p :
+       {Vec3(0.5, 0, 0), Vec3(0, 0.5, 0), Vec3(0.5, 0.5, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)})
+    EXPECT_TRUE(intersect_triangle(tri, make_ray(p + Vec3(0, 0, 3), {0, 0, -1}))) << "point " << p.x << " " << p.y;
   EXPECT_FALSE(intersect_triangle(tri, make_ray({0.5000001, 0.5, 3}, {0, 0, -1})));
   EXPECT_FALSE(intersect_triangle(tri, make_ray({-1e-9, 0.5, 3}, {0, 0, -1})));
 }
@@ -93,11 +93,11 @@ TEST(WatertightTriangle, SharedEdgeOfTwoTrianglesHasNoCrack) {
 // An icosphere: 20 * 4^levels triangles sharing their vertices.
 Mesh icosphere(int levels, double radius) {
   const double p = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Vec3> v = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
-                         {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
-  std::vector<uint32_t> f = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4,
-                             11, 10, 2, 10, 7, 6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8,
-                             3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  std::vector<Vec3> v = {{-1, p, 0},  {1, p, 0},  {-1, -p, 0}, {1, -p, 0}, {0, -1, p},  {0, 1, p},
+                         {0, -1, -p}, {0, 1, -p}, {p, 0, -1},  {p, 0, 1},  {-p, 0, -1}, {-p, 0, 1}};
+  std::vector<uint32_t> f = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
+                             4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3,  9,  4, 3,  4,  2, 3, 2, 6, 3,
+                             6, 8,  3,  8, 9,  4, 9, 5, 2, 4, 11, 6,  2, 10, 8,  6, 7, 9, 8, 1};
   for (Vec3& x : v) x = normalize(x);
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
@@ -119,8 +119,8 @@ Mesh icosphere(int levels, double radius) {
   Mesh mesh;
   mesh.file = "icosphere";
   for (const Vec3& x : v)
-    mesh.positions.push_back(Vec3f{static_cast<float>(radius * x.x), static_cast<float>(radius * x.y),
-                                   static_cast<float>(radius * x.z)});
+    mesh.positions.push_back(
+        Vec3f{static_cast<float>(radius * x.x), static_cast<float>(radius * x.y), static_cast<float>(radius * x.z)});
   mesh.indices = f;
   mesh.triangle_material.assign(f.size() / 3, 0);
   return mesh;
@@ -198,8 +198,7 @@ TEST(SealedSphere, FarCamerasSeeTheSameHitsAsBruteForce) {
           // radii away are rounded to ~4e-6); its refined distance is then
           // within float precision. A culled box would show as a miss or as
           // the sphere's far side, 2e-4 of t further.
-          if (got.has_value() != want.has_value() || (got && std::abs(got->t - want->t) > 1e-6 * want->t))
-            ++mismatches;
+          if (got.has_value() != want.has_value() || (got && std::abs(got->t - want->t) > 1e-6 * want->t)) ++mismatches;
         }
       }
     }
@@ -264,7 +263,8 @@ TEST(MeshBvh, AxisParallelRaysMatchBruteForce) {
           cubes.positions.push_back(Vec3f{static_cast<float>(i + (c & 1)), static_cast<float>(j + (c >> 1 & 1)),
                                           static_cast<float>(k + (c >> 2 & 1))});
         // Two triangles per face of the unit cube at (i, j, k); corner c has bits x, y, z.
-        const uint32_t faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+        const uint32_t faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                      {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
         for (const auto& f : faces)
           for (const uint32_t v : {f[0], f[1], f[2], f[0], f[2], f[3]}) cubes.indices.push_back(base + v);
       }
@@ -274,8 +274,8 @@ TEST(MeshBvh, AxisParallelRaysMatchBruteForce) {
   const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
   const auto brute = build_brute_force(scene);
   const double zero = 0.0;
-  const Vec3 directions[] = {{1, zero, zero}, {-1, zero, -zero}, {-zero, 1, zero}, {zero, -1, -zero},
-                             {zero, -zero, 1}, {-zero, zero, -1}};
+  const Vec3 directions[] = {{1, zero, zero},   {-1, zero, -zero}, {-zero, 1, zero},
+                             {zero, -1, -zero}, {zero, -zero, 1},  {-zero, zero, -1}};
   const double coords[] = {-0.5, 0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 3.5};
   int rays = 0, hits = 0;
   for (const Vec3& d : directions)
@@ -462,7 +462,9 @@ TEST(TriangleLeaves, SameAnswersAsBruteForce) {
   Rng rng(43);
   for (int i = 0; i < 300; ++i) {
     const Vec3 c(rng.next_double() * 20 - 10, rng.next_double() * 20 - 10, rng.next_double() * 20 - 10);
-    const auto corner = [&] { return c + Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5); };
+    const auto corner = [&] {
+      return c + Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5);
+    };
     const Triangle t{corner(), corner(), corner()};
     if (i % 3 == 0) {
       add_triangle(scene, t, 0, i % 9 == 0 ? std::optional<Transform>(Transform::scale({1, 2, 1})) : std::nullopt);

@@ -183,8 +183,9 @@ TEST(Animation, LoaderErrors) {
   EXPECT_EQ(error_of(R"("keys": [)", R"("keys": [], "k": [)"),
             "anim.json:12:52: animation: unknown key \"k\" (expected one of \"frames\", \"fps\", \"keys\")");
   // Camera straight down with y up: fine at the keys' ends, parallel at frame 0.
-  EXPECT_EQ(error_of(R"("camera": {"position": [0, 1, 6]})", R"("camera": {"position": [0, 9, 0], "look_at": [0, 0, 0]})"),
-            "anim.json:12:16: animation: frame 0: the camera's up vector is parallel to the view direction");
+  EXPECT_EQ(
+      error_of(R"("camera": {"position": [0, 1, 6]})", R"("camera": {"position": [0, 9, 0], "look_at": [0, 0, 0]})"),
+      "anim.json:12:16: animation: frame 0: the camera's up vector is parallel to the view direction");
   EXPECT_EQ(error_of(R"("ball": {"translate": [-1, 0.75, 0]})", R"("ball": {"scale": -1})",
                      R"("ball": {"translate": [1, 0.75, 0]})", R"("ball": {"scale": 1})"),
             "anim.json:12:16: animation: frame 2: the transform of object \"ball\" is singular");

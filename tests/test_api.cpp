@@ -5,10 +5,10 @@
 
 #include <cmath>
 #include <filesystem>
-#include <limits>
-#include <numbers>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "glint/accel/accelerator.h"
 #include "glint/api/scene_state.h"
@@ -70,13 +70,13 @@ TEST(Api, BadEditIsRefusedWithTheLoadersMessageAndChangesNothing) {
     EXPECT_EQ(e.location().file, "two.json");
   }
   EXPECT_EQ(scene.to_json(), before);
-  EXPECT_THROW(scene.set_string("objects[0].material", "gold"), glint::Error);  // unknown material
+  EXPECT_THROW(scene.set_string("objects[0].material", "gold"), glint::Error);                 // unknown material
   EXPECT_THROW(scene.set("camera.position", std::array<double, 3>{0, 0.5, 0}), glint::Error);  // = look_at
   EXPECT_THROW(scene.set_json("lights[0].position", "[1, 2]"), glint::Error);
   EXPECT_THROW(scene.set_json("lights[0].position", "[1, 2"), glint::Error);  // not JSON
-  EXPECT_THROW(scene.set("materials.red.shinyness", 3.0), glint::Error);     // unknown key
-  EXPECT_THROW(scene.erase("materials.red"), glint::Error);                  // still in use
-  EXPECT_THROW(scene.set("objects[7].radius", 1.0), glint::Error);           // no such object
+  EXPECT_THROW(scene.set("materials.red.shinyness", 3.0), glint::Error);      // unknown key
+  EXPECT_THROW(scene.erase("materials.red"), glint::Error);                   // still in use
+  EXPECT_THROW(scene.set("objects[7].radius", 1.0), glint::Error);            // no such object
   EXPECT_EQ(scene.to_json(), before);
 }
 
@@ -258,7 +258,8 @@ std::string grid_scene(const std::string& mesh_keys) {
   return std::string(R"({ "render": { "width": 40, "height": 30 },
     "camera": { "position": [0, 2.5, 3], "look_at": [0, 0, 0] },
     "lights": [ { "type": "point", "position": [-2, 4, 3] } ],
-    "objects": [ { "type": "mesh", )") + mesh_keys + " } ] }";
+    "objects": [ { "type": "mesh", )") +
+         mesh_keys + " } ] }";
 }
 
 }  // namespace
@@ -269,8 +270,10 @@ TEST(Api, InlineMeshRendersAsTheSameMeshFromAnObjFile) {
   {
     std::ofstream obj(dir / "grid.obj");
     const nlohmann::json v = nlohmann::json::parse(kGridVertices), t = nlohmann::json::parse(kGridTriangles);
-    for (const auto& p : v) obj << "v " << p[0].get<double>() << " " << p[1].get<double>() << " " << p[2].get<double>() << "\n";
-    for (const auto& f : t) obj << "f " << f[0].get<int>() + 1 << " " << f[1].get<int>() + 1 << " " << f[2].get<int>() + 1 << "\n";
+    for (const auto& p : v)
+      obj << "v " << p[0].get<double>() << " " << p[1].get<double>() << " " << p[2].get<double>() << "\n";
+    for (const auto& f : t)
+      obj << "f " << f[0].get<int>() + 1 << " " << f[1].get<int>() + 1 << " " << f[2].get<int>() + 1 << "\n";
   }
   for (const char* smooth : {"true", "false"}) {
     SCOPED_TRACE(smooth);
@@ -302,14 +305,17 @@ TEST(Api, InlineMeshProblemsAreNamedByTheirPath) {
             "objects[0].triangles[0][2]: vertex index 9 out of range (9 vertices)");
   EXPECT_EQ(error_of(v + R"(, "triangles": [[0, 1, -1]])"),
             "objects[0].triangles[0][2]: vertex index -1 out of range (9 vertices)");
-  EXPECT_EQ(error_of(v + R"(, "triangles": [[0, 1.5, 2]])"), "objects[0].triangles[0][1]: expected a whole number, got 1.5");
+  EXPECT_EQ(error_of(v + R"(, "triangles": [[0, 1.5, 2]])"),
+            "objects[0].triangles[0][1]: expected a whole number, got 1.5");
   EXPECT_EQ(error_of(v + R"(, "triangles": [[0, 1]])"),
             "objects[0].triangles[0]: expected [i, j, k] (three vertex indices), got an array of 2");
-  EXPECT_EQ(error_of(R"("vertices": [[0, 0, 0], [1, 0, 1e300], [0, 1, 0]], )" + t.substr(0, 0) + R"("triangles": [[0, 1, 2]])"),
+  EXPECT_EQ(error_of(R"("vertices": [[0, 0, 0], [1, 0, 1e300], [0, 1, 0]], )" + t.substr(0, 0) +
+                     R"("triangles": [[0, 1, 2]])"),
             "objects[0].vertices[1]: does not fit in a 32-bit float");
   EXPECT_EQ(error_of(R"("vertices": [[0, 0, 0], [1, 0, 0], [2, 0, 0]], "triangles": [[0, 1, 2]])"),
             "objects[0]: no triangles (the only one is degenerate)");
-  EXPECT_EQ(error_of(v + ", " + t + R"(, "normals": [[0, 1, 0]])"), "objects[0].normals: expected one per vertex (9), got 1");
+  EXPECT_EQ(error_of(v + ", " + t + R"(, "normals": [[0, 1, 0]])"),
+            "objects[0].normals: expected one per vertex (9), got 1");
   EXPECT_EQ(error_of(v + ", " + t + R"(, "file": "x.obj")"),
             "objects[0].file: give either \"file\" or inline \"vertices\" and \"triangles\", not both");
   EXPECT_EQ(error_of(v), "objects[0]: missing required key \"triangles\"");
@@ -377,7 +383,8 @@ TEST(Api, MeshArraysAreTheInlineMeshTheyStandFor) {
   bad = arrays;
   bad.triangles.clear();
   EXPECT_EQ(error_of(bad), "triangles: no triangles");
-  EXPECT_EQ(error_of(arrays, R"({"material": "gold"})"), "objects[1].material: unknown material \"gold\" (the scene defines no materials)");
+  EXPECT_EQ(error_of(arrays, R"({"material": "gold"})"),
+            "objects[1].material: unknown material \"gold\" (the scene defines no materials)");
   EXPECT_EQ(error_of(arrays, R"({"type": "sphere"})"), "type: add_mesh makes a mesh (got \"sphere\")");
   EXPECT_EQ(error_of(arrays, R"({"file": "x.obj"})"), "file: given by the arrays; not a key here");
   bad = arrays;

@@ -24,8 +24,8 @@
 #include "glint/scene/animation.h"
 
 namespace fs = std::filesystem;
-using glint::api::FramesOptions;
 using glint::api::FrameReport;
+using glint::api::FramesOptions;
 using glint::api::Scene;
 
 namespace {

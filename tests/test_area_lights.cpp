@@ -26,10 +26,12 @@ std::string area_scene(bool with_slab, double light_size, int samples) {
     "camera": {"type": "orthographic", "position": [0, 1, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "view_height": 0.0625},
     "materials": {"floor": {"ambient": 0.25, "diffuse": 0.5, "specular": 0}},
     "lights": [{"type": "ambient", "ambient": 0.4},
-               {"type": "area", "corner": [)" + std::to_string(-h) + ", 4, " + std::to_string(-h) +
-         R"(], "edge_u": [)" + std::to_string(light_size) + R"(, 0, 0], "edge_v": [0, 0, )" +
-         std::to_string(light_size) + R"(], "samples": )" + std::to_string(samples) + R"(}],
-    "objects": [)" + objects + "]}";
+               {"type": "area", "corner": [)" +
+         std::to_string(-h) + ", 4, " + std::to_string(-h) + R"(], "edge_u": [)" + std::to_string(light_size) +
+         R"(, 0, 0], "edge_v": [0, 0, )" + std::to_string(light_size) + R"(], "samples": )" + std::to_string(samples) +
+         R"(}],
+    "objects": [)" +
+         objects + "]}";
 }
 
 Image render_text(const std::string& text) {
@@ -66,7 +68,7 @@ TEST(AreaLightPenumbra, RisesMonotonicallyAcrossTheShadowEdge) {
     EXPECT_GE(p.lit_fraction[x], p.lit_fraction[x - 1] - 1.0 / 32) << "pixel " << x;
     rising += p.lit_fraction[x] > p.lit_fraction[x - 1];
   }
-  EXPECT_GT(rising, 10);  // there is a penumbra, not a step
+  EXPECT_GT(rising, 10);                      // there is a penumbra, not a step
   EXPECT_NEAR(p.lit_fraction[64], 0.5, 0.1);  // the middle sees about half the light
 }
 

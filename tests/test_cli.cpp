@@ -4,9 +4,9 @@
 // error path (one `error:` line, non-zero exit, outputs untouched, no leftovers).
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -24,9 +24,9 @@
 
 #include "glint/accel/accelerator.h"
 #include "glint/image/image.h"
-#include "glint/io/scene_loader.h"
 #include "glint/io/file_io.h"
 #include "glint/io/image_file.h"
+#include "glint/io/scene_loader.h"
 #include "glint/render/passes.h"
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
@@ -126,8 +126,7 @@ std::vector<std::string> lines_of(const std::string& text) {
 }
 
 // The library's own render of a scene file (after `edit`): what the CLI must write.
-glint::Image library_render(const fs::path& scene_path,
-                            const std::function<void(glint::Scene&)>& edit = {},
+glint::Image library_render(const fs::path& scene_path, const std::function<void(glint::Scene&)>& edit = {},
                             glint::RenderStats* stats = nullptr) {
   glint::Scene scene = glint::load_scene(scene_path);
   if (edit) edit(scene);
@@ -145,8 +144,8 @@ class CliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() /
-            ("glint-cli-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" + std::to_string(::getpid()));
+    root_ = fs::temp_directory_path() / ("glint-cli-" + std::string(info->test_suite_name()) + "-" + info->name() +
+                                         "-" + std::to_string(::getpid()));
     fs::remove_all(root_);
     work_ = root_ / "work";
     fs::create_directories(work_);
@@ -295,9 +294,9 @@ TEST_F(CliOptions, WidthAndHeight) {
   EXPECT_EQ(got.width, 10);
   EXPECT_EQ(got.height, 7);
   EXPECT_TRUE(same_pixels(got, library_render(path("scene.json"), [](glint::Scene& s) {
-                s.render.width = 10;
-                s.render.height = 7;
-              })));
+                            s.render.width = 10;
+                            s.render.height = 7;
+                          })));
   const glint::Image wide = render("wide.pfm", "--width 30");
   EXPECT_EQ(wide.width, 30);
   EXPECT_EQ(wide.height, 16);
@@ -318,7 +317,8 @@ TEST_F(CliOptions, SamplesPerPixel) {
 TEST_F(CliOptions, MaxDepth) {
   const glint::Image deep = render("deep.pfm");
   const glint::Image shallow = render("shallow.pfm", "--max-depth 1");
-  EXPECT_TRUE(same_pixels(shallow, library_render(path("scene.json"), [](glint::Scene& s) { s.render.max_depth = 1; })));
+  EXPECT_TRUE(
+      same_pixels(shallow, library_render(path("scene.json"), [](glint::Scene& s) { s.render.max_depth = 1; })));
   EXPECT_FALSE(same_pixels(deep, shallow));  // the mirror floor and the glass need depth > 1
 }
 
@@ -327,8 +327,8 @@ TEST_F(CliOptions, ShadingModel) {
   const glint::Image blinn = render("blinn.pfm", "--shading-model blinn-phong");
   EXPECT_TRUE(same_pixels(phong, library_render(path("scene.json"))));
   EXPECT_TRUE(same_pixels(blinn, library_render(path("scene.json"), [](glint::Scene& s) {
-                s.render.shading_model = glint::ShadingModel::blinn_phong;
-              })));
+                            s.render.shading_model = glint::ShadingModel::blinn_phong;
+                          })));
   EXPECT_FALSE(same_pixels(phong, blinn));  // the shiny sphere's highlight differs
 }
 
@@ -354,8 +354,8 @@ TEST_F(CliOptions, AccelBackends) {
 TEST_F(CliDeterminism, SameBytesWithOneTwoAndSevenThreads) {
   write_text(path("area.json"), kAreaScene);
   for (int threads : {1, 2, 7}) {
-    const RunResult r = run("render area.json -o t" + std::to_string(threads) + ".pfm --quiet --threads " +
-                            std::to_string(threads));
+    const RunResult r =
+        run("render area.json -o t" + std::to_string(threads) + ".pfm --quiet --threads " + std::to_string(threads));
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   const Bytes one = read_bytes(path("t1.pfm"));
@@ -378,9 +378,10 @@ TEST_F(CliStats, LastLineCountsRaysByKind) {
   EXPECT_LE(lines.size(), 3u) << "stderr is not a terminal: a few plain lines at most";
   const std::string& last = lines.back();
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(last, m,
-                                std::regex(R"(([0-9.]+[kM]?) camera, ([0-9.]+[kM]?) shadow, ([0-9.]+[kM]?) reflection, )"
-                                           R"(([0-9.]+[kM]?) refraction.*[0-9.]+ Mrays/s)")))
+  ASSERT_TRUE(
+      std::regex_search(last, m,
+                        std::regex(R"(([0-9.]+[kM]?) camera, ([0-9.]+[kM]?) shadow, ([0-9.]+[kM]?) reflection, )"
+                                   R"(([0-9.]+[kM]?) refraction.*[0-9.]+ Mrays/s)")))
       << last;
   // These counts are small enough to be printed in full.
   EXPECT_EQ(m[1].str(), std::to_string(stats.rays.camera));
@@ -434,17 +435,21 @@ TEST_F(CliStats, VersionIsTheLibrarysVersion) {
 // --- errors -------------------------------------------------------------------------
 
 TEST_F(CliErrors, MalformedSceneSyntaxNamesFileLineColumn) {
-  write_text(path("bad.json"), "{\n  \"camera\": {\"position\": [0, 0, 5] \"look_at\": [0, 0, 0]},\n  \"objects\": []\n}\n");
+  write_text(path("bad.json"),
+             "{\n  \"camera\": {\"position\": [0, 0, 5] \"look_at\": [0, 0, 0]},\n  \"objects\": []\n}\n");
   expect_failure("render bad.json -o {out}", "error: bad.json:2:36: syntax error");
 }
 
 TEST_F(CliErrors, SceneValueOutOfDomainIsOneExactLine) {
-  write_text(path("bad.json"), "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},\n"
-                               " \"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": -1}]}\n");
+  write_text(path("bad.json"),
+             "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},\n"
+             " \"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": -1}]}\n");
   expect_failure("render bad.json -o {out}", "error: bad.json:2:64: objects[0].radius: must be > 0 (got -1)\n");
-  write_text(path("bad.json"), "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},\n"
-                               " \"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radus\": 1}]}\n");
-  expect_failure("render bad.json -o {out}", "bad.json:2:54: objects[0]: unknown key \"radus\" (did you mean \"radius\"?)");
+  write_text(path("bad.json"),
+             "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},\n"
+             " \"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radus\": 1}]}\n");
+  expect_failure("render bad.json -o {out}",
+                 "bad.json:2:54: objects[0]: unknown key \"radus\" (did you mean \"radius\"?)");
 }
 
 TEST_F(CliErrors, MissingSceneFile) {
@@ -547,9 +552,8 @@ TEST_F(CliPasses, OneFilePerPassInTheOutputsFormatSummingToTheImage) {
   for (const std::string ext : {"pfm", "exr"}) {
     SCOPED_TRACE(ext);
     const glint::Image beauty = render("out." + ext, "--spp 4 --passes all");
-    EXPECT_TRUE(same_pixels(beauty, library_render(path("scene.json"), [](glint::Scene& s) {
-                  s.render.samples_per_pixel = 4;
-                })));
+    EXPECT_TRUE(same_pixels(
+        beauty, library_render(path("scene.json"), [](glint::Scene& s) { s.render.samples_per_pixel = 4; })));
     std::vector<double> sum(beauty.rgb.size(), 0.0);
     for (const char* pass : kColorPasses) {
       const glint::Image p = glint::read_image(path(std::string("out.") + pass + "." + ext));
@@ -572,10 +576,31 @@ TEST_F(CliPasses, LayeredExrHoldsEveryPassAsChannels) {
   const glint::ExrPlanes exr = glint::read_exr_channels(path("out.exr"));
   std::vector<std::string> names;
   for (const auto& [name, plane] : exr.planes) names.push_back(name);
-  const std::vector<std::string> want = {"B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "ambient.B", "ambient.G",
-      "ambient.R", "depth.Z", "diffuse.B", "diffuse.G", "diffuse.R", "normal.X", "normal.Y", "normal.Z",
-      "reflection.B", "reflection.G", "reflection.R", "specular.B", "specular.G", "specular.R",
-      "transmission.B", "transmission.G", "transmission.R"};
+  const std::vector<std::string> want = {"B",
+                                         "G",
+                                         "R",
+                                         "albedo.B",
+                                         "albedo.G",
+                                         "albedo.R",
+                                         "ambient.B",
+                                         "ambient.G",
+                                         "ambient.R",
+                                         "depth.Z",
+                                         "diffuse.B",
+                                         "diffuse.G",
+                                         "diffuse.R",
+                                         "normal.X",
+                                         "normal.Y",
+                                         "normal.Z",
+                                         "reflection.B",
+                                         "reflection.G",
+                                         "reflection.R",
+                                         "specular.B",
+                                         "specular.G",
+                                         "specular.R",
+                                         "transmission.B",
+                                         "transmission.G",
+                                         "transmission.R"};
   EXPECT_EQ(names, want);
   for (size_t i = 0; i < beauty.rgb.size() / 3; ++i) {
     double sum = 0;
@@ -626,10 +651,12 @@ using CliToneMap = CliTest;
 
 TEST_F(CliToneMap, ExposureAndToneMapShapeEightBitOutputs) {
   const glint::Image exact = library_render(path("scene.json"));
-  for (const auto& [name, map] : {std::pair{"clamp", glint::ToneMap::clamp}, {"reinhard", glint::ToneMap::reinhard},
+  for (const auto& [name, map] : {std::pair{"clamp", glint::ToneMap::clamp},
+                                  {"reinhard", glint::ToneMap::reinhard},
                                   {"aces", glint::ToneMap::aces}}) {
     SCOPED_TRACE(name);
-    const glint::Image got = render(std::string("out-") + name + ".png", std::string("--exposure 1.5 --tonemap ") + name);
+    const glint::Image got =
+        render(std::string("out-") + name + ".png", std::string("--exposure 1.5 --tonemap ") + name);
     glint::Image want = exact;
     for (float& v : want.rgb) v = glint::tone_map(v * std::exp2(1.5f), map);
     EXPECT_EQ(srgb_level_error(got, want).first, 0);
@@ -671,33 +698,32 @@ TEST_F(CliOptions, PixelFilterOverridesTheScene) {
     SCOPED_TRACE(name);
     const glint::Image got = render(std::string(name) + ".pfm", std::string("--spp 4 --pixel-filter ") + name);
     EXPECT_TRUE(same_pixels(got, library_render(path("scene.json"), [&](glint::Scene& s) {
-                  s.render.samples_per_pixel = 4;
-                  s.render.pixel_filter = {type, radius};
-                })));
+                              s.render.samples_per_pixel = 4;
+                              s.render.pixel_filter = {type, radius};
+                            })));
   }
   expect_failure("render scene.json -o {out} --pixel-filter gausian", "did you mean \"gaussian\"");
 }
 
 TEST_F(CliOptions, AdaptiveSamplingWithPasses) {
-  const RunResult r = run("render scene.json -o out.pfm --spp 2 --adaptive-max-spp 16 --adaptive-threshold 0.02 "
-                          "--passes all --threads 3");
+  const RunResult r =
+      run("render scene.json -o out.pfm --spp 2 --adaptive-max-spp 16 --adaptive-threshold 0.02 "
+          "--passes all --threads 3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("glint: adaptive: "), std::string::npos) << r.err;
   const glint::Image beauty = glint::read_image(path("out.pfm"));
   EXPECT_TRUE(same_pixels(beauty, library_render(path("scene.json"), [](glint::Scene& s) {
-                s.render.samples_per_pixel = 2;
-                s.render.adaptive = glint::AdaptiveSampling{16, 0.02};
-              })));
-  EXPECT_FALSE(same_pixels(beauty, library_render(path("scene.json"), [](glint::Scene& s) {
-                 s.render.samples_per_pixel = 2;
-               })));
+                            s.render.samples_per_pixel = 2;
+                            s.render.adaptive = glint::AdaptiveSampling{16, 0.02};
+                          })));
+  EXPECT_FALSE(
+      same_pixels(beauty, library_render(path("scene.json"), [](glint::Scene& s) { s.render.samples_per_pixel = 2; })));
   std::vector<double> sum(beauty.rgb.size(), 0.0);
   for (const char* pass : kColorPasses) {
     const glint::Image p = glint::read_image(path(std::string("out.") + pass + ".pfm"));
     for (size_t i = 0; i < sum.size(); ++i) sum[i] += p.rgb[i];
   }
-  for (size_t i = 0; i < sum.size(); ++i)
-    ASSERT_NEAR(sum[i], beauty.rgb[i], 1e-6 * std::max(1.0f, beauty.rgb[i])) << i;
+  for (size_t i = 0; i < sum.size(); ++i) ASSERT_NEAR(sum[i], beauty.rgb[i], 1e-6 * std::max(1.0f, beauty.rgb[i])) << i;
   expect_failure("render scene.json -o {out} --spp 8 --adaptive-max-spp 4", "below samples_per_pixel");
 }
 

@@ -81,8 +81,8 @@ TEST(Explain, JsonHasTheContractsKeys) {
     for (const char* key : {"object", "name", "t", "point", "normal", "material", "lights", "reflection", "refraction"})
       ASSERT_TRUE(hit.contains(key)) << key;
     for (const auto& l : hit["lights"])
-      for (const char* key : {"index", "type", "l", "n_dot_l", "shadowed", "blocker", "specular_cos", "ambient",
-                              "diffuse", "specular"})
+      for (const char* key :
+           {"index", "type", "l", "n_dot_l", "shadowed", "blocker", "specular_cos", "ambient", "diffuse", "specular"})
         ASSERT_TRUE(l.contains(key)) << key;
     if (!hit["refraction"].is_null()) {
       saw_refraction = true;
@@ -103,7 +103,8 @@ TEST(Explain, NamesTheBlockerOfAShadowRay) {
     "objects": [
       {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "name": "floor"},
       {"type": "sphere", "center": [0.11, 2.5, 0], "radius": 0.05, "name": "pebble"}
-    ]})", "blocker.json");
+    ]})",
+                                  "blocker.json");
   const auto accel = build_accelerator(scene);
   const PixelExplanation e = explain_pixel(scene, *accel, 5, 4);
   ASSERT_TRUE(e.ray.hit);

@@ -28,9 +28,8 @@ std::vector<unsigned char> api_image(const glint::api::Scene& scene) {
 class FileCacheTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("glint-file-cache-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("glint-file-cache-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     // A square of two triangles with an .mtl whose material has a diffuse map.
@@ -48,9 +47,7 @@ class FileCacheTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  void write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name, std::ios::binary) << text;
-  }
+  void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name, std::ios::binary) << text; }
   // A 1 x 1 PFM (linear RGB floats) of one gray value.
   void write_pfm(const std::string& name, float value) {
     std::ofstream out(dir_ / name, std::ios::binary);

@@ -104,8 +104,9 @@ Scene test_scene(int spp, FilterType type) {
   scene.render.height = 40;
   scene.render.samples_per_pixel = spp;
   scene.render.pixel_filter.type = type;
-  scene.render.pixel_filter.radius =
-      type == FilterType::gaussian ? kGaussianRadius : type == FilterType::mitchell ? kMitchellRadius : 0.5;
+  scene.render.pixel_filter.radius = type == FilterType::gaussian   ? kGaussianRadius
+                                     : type == FilterType::mitchell ? kMitchellRadius
+                                                                    : 0.5;
   return scene;
 }
 

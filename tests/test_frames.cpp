@@ -2,9 +2,9 @@
 // the output name, --skip-existing; every frame's file is the library's render
 // of that frame's scene.
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
@@ -60,8 +60,9 @@ TEST(FrameNames, Ranges) {
 class CliFrames : public ::testing::Test {
  protected:
   void SetUp() override {
-    work_ = fs::temp_directory_path() / ("glint-frames-" + std::string(
-        ::testing::UnitTest::GetInstance()->current_test_info()->name()) + "-" + std::to_string(::getpid()));
+    work_ = fs::temp_directory_path() /
+            ("glint-frames-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "-" +
+             std::to_string(::getpid()));
     fs::remove_all(work_);
     fs::create_directories(work_);
     scene_ = std::string(GLINT_SOURCE_DIR) + "/tests/mpi/anim4.json";
@@ -70,8 +71,8 @@ class CliFrames : public ::testing::Test {
 
   // Runs `glint render <scene> ARGS` in the work folder; returns the exit code, stderr in err_.
   int render(const std::string& args) {
-    const std::string command = "cd '" + work_.string() + "' && '" GLINT_CLI_PATH "' render '" + scene_ + "' " +
-                                args + " 2> stderr.txt";
+    const std::string command =
+        "cd '" + work_.string() + "' && '" GLINT_CLI_PATH "' render '" + scene_ + "' " + args + " 2> stderr.txt";
     const int status = std::system(command.c_str());
     std::ifstream in(work_ / "stderr.txt");
     std::stringstream text;
@@ -110,8 +111,9 @@ TEST_F(CliFrames, RangeRendersOnlyItsFrames) {
 
 TEST_F(CliFrames, SeveralFramesNeedAPattern) {
   EXPECT_EQ(render("-o out.png"), 1);
-  EXPECT_EQ(err_, "error: out.png: 4 frames need a frame number in the output name, exactly one %d or %0Nd "
-                  "(e.g. out_%04d.png)\n");
+  EXPECT_EQ(err_,
+            "error: out.png: 4 frames need a frame number in the output name, exactly one %d or %0Nd "
+            "(e.g. out_%04d.png)\n");
   EXPECT_EQ(render("-o f_%d.png --frames 2-7"), 1);
   EXPECT_EQ(err_, "error: --frames \"2-7\": the scene has frames 0-3\n");
   EXPECT_FALSE(fs::exists(work_ / "f_2.png"));
@@ -127,7 +129,8 @@ TEST_F(CliFrames, SkipExistingRendersOnlyMissingOrUnfinishedFrames) {
   EXPECT_NE(err_.find("f_0.pfm exists: skipped"), std::string::npos) << err_;
   EXPECT_EQ(err_.find("f_1.pfm exists: skipped"), std::string::npos) << err_;
   EXPECT_EQ(fs::last_write_time(work_ / "f_0.pfm"), written);
-  for (int f = 1; f < 4; ++f) EXPECT_EQ(read_image(work_ / ("f_" + std::to_string(f) + ".pfm")).rgb, library_frame(f).rgb);
+  for (int f = 1; f < 4; ++f)
+    EXPECT_EQ(read_image(work_ / ("f_" + std::to_string(f) + ".pfm")).rgb, library_frame(f).rgb);
   EXPECT_FALSE(fs::exists(work_ / "f_1.pfm.glint-resume"));
 }
 
@@ -145,7 +148,8 @@ TEST_F(CliFrames, ExplainFollowsTheFrame) {
   }
   ASSERT_LT(y, last.height) << "nothing moved";
   const std::string command = "'" GLINT_CLI_PATH "' explain '" + scene_ + "' --json --frame 3 --pixel " +
-                              std::to_string(x) + " " + std::to_string(y) + " > '" + (work_ / "explain.json").string() + "'";
+                              std::to_string(x) + " " + std::to_string(y) + " > '" + (work_ / "explain.json").string() +
+                              "'";
   ASSERT_EQ(std::system(command.c_str()), 0);
   std::ifstream in(work_ / "explain.json");
   const auto color = nlohmann::json::parse(in)["color"];

@@ -155,8 +155,8 @@ Error json_error(const std::string& text) {
 // "unexpected byte 0xBF"). Only one leading BOM is allowed; a second one is
 // an error at its first byte.
 TEST(FuzzRegressions, SecondByteOrderMarkIsAnErrorAtItsStart) {
-  for (const char* text : {"\xEF\xBB\xBF\xEF\xBB\xBF{}", "\xEF\xBB\xBF\xEF\xBB\xBF[\"\",\"\",\"\"]",
-                           "\xEF\xBB\xBF\xEF\xBB\xBF 5"}) {
+  for (const char* text :
+       {"\xEF\xBB\xBF\xEF\xBB\xBF{}", "\xEF\xBB\xBF\xEF\xBB\xBF[\"\",\"\",\"\"]", "\xEF\xBB\xBF\xEF\xBB\xBF 5"}) {
     const Error e = json_error(text);
     EXPECT_EQ(e.location().line, 1) << e.what();
     EXPECT_EQ(e.location().column, 1) << e.what();
@@ -226,8 +226,7 @@ TEST(FuzzRegressions, GltfSkinWithoutInverseBindMatricesLoadsWithoutTheSkin) {
 TEST(FuzzRegressions, GltfSparseAccessorWithoutIndicesIsRefused) {
   GLINT_SKIP_WITHOUT_ASSIMP();
   const std::string e = mesh_error("gltf-sparse-without-indices.gltf");
-  EXPECT_NE(e.find(".gltf:1:238: accessors[0].sparse: needs 'indices' and 'values' objects"), std::string::npos)
-      << e;
+  EXPECT_NE(e.find(".gltf:1:238: accessors[0].sparse: needs 'indices' and 'values' objects"), std::string::npos) << e;
 }
 
 // fuzz_mesh_ply: an ASCII vertex line with more values than the header

@@ -103,12 +103,11 @@ Scene random_scene(int count, uint64_t seed) {
   auto u = [&] { return rng.next_double() * 20 - 10; };
   for (int i = 0; i < count; ++i) {
     switch (i % 4) {
-      case 0:
-        add_sphere(scene, Sphere{{u(), u(), u()}, 0.1 + rng.next_double()});
-        break;
+      case 0: add_sphere(scene, Sphere{{u(), u(), u()}, 0.1 + rng.next_double()}); break;
       case 1: {
         const Vec3 c{u(), u(), u()};
-        add_triangle(scene, Triangle{c, c + Vec3{rng.next_double() * 2, 0.1, 0}, c + Vec3{0, rng.next_double() * 2, 0.3}});
+        add_triangle(scene,
+                     Triangle{c, c + Vec3{rng.next_double() * 2, 0.1, 0}, c + Vec3{0, rng.next_double() * 2, 0.3}});
         break;
       }
       case 2: {

@@ -92,8 +92,7 @@ class ImageIo : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("glint-test-image-" + std::to_string(::getpid()) + "-" + info->name());
+    dir_ = fs::temp_directory_path() / ("glint-test-image-" + std::to_string(::getpid()) + "-" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -148,7 +147,7 @@ class ImageIo : public ::testing::Test {
 // tested on channel sets and types our writer never produces.
 struct ExrChannel {
   std::string name;
-  int type;  // 1 half, 2 float
+  int type;                            // 1 half, 2 float
   std::vector<std::uint32_t> samples;  // raw bits, row-major; half uses the low 16
 };
 
@@ -294,8 +293,8 @@ TEST(ImageBasics, ConstructionAndPixelAccess) {
 
 TEST_F(ImageIo, PfmByteLayout) {
   Image image(2, 2);
-  const float values[12] = {1, 2, 3, 4, 5, 6,           // top row: (0,0), (1,0)
-                            7, 8, 9, 10, 11, -0.5f};    // bottom row: (0,1), (1,1)
+  const float values[12] = {1, 2, 3, 4,  5,  6,       // top row: (0,0), (1,0)
+                            7, 8, 9, 10, 11, -0.5f};  // bottom row: (0,1), (1,1)
   std::copy(std::begin(values), std::end(values), image.rgb.begin());
   const fs::path path = dir_ / "layout.pfm";
   glint::write_image(image, path);
@@ -344,7 +343,8 @@ TEST_F(ImageIo, FloatFormatsRoundTripBitExact) {
     ASSERT_EQ(back.height, image.height) << name;
     ASSERT_EQ(back.rgb.size(), image.rgb.size()) << name;
     for (std::size_t i = 0; i < image.rgb.size(); ++i) {
-      EXPECT_TRUE(same_bits(back.rgb[i], image.rgb[i])) << name << " sample " << i << ": " << back.rgb[i] << " vs " << image.rgb[i];
+      EXPECT_TRUE(same_bits(back.rgb[i], image.rgb[i]))
+          << name << " sample " << i << ": " << back.rgb[i] << " vs " << image.rgb[i];
     }
   }
 }
@@ -579,8 +579,9 @@ TEST_F(ImageIo, ReadsExrRgbaAndHalf) {
     for (int i = 0; i < 6; ++i) v.push_back(std::bit_cast<std::uint32_t>(base + static_cast<float>(i)));
     return v;
   };
-  write_bytes(dir_ / "rgba.exr", handmade_exr(w, h, {{"A", 2, floats(100)}, {"B", 2, floats(30)},
-                                                   {"G", 2, floats(20)}, {"R", 2, floats(10)}}));
+  write_bytes(
+      dir_ / "rgba.exr",
+      handmade_exr(w, h, {{"A", 2, floats(100)}, {"B", 2, floats(30)}, {"G", 2, floats(20)}, {"R", 2, floats(10)}}));
   Image image = glint::read_image(dir_ / "rgba.exr");
   ASSERT_EQ(image.width, w);
   ASSERT_EQ(image.height, h);
@@ -690,8 +691,8 @@ Bytes ppm_codes(const fs::path& path) {
 }  // namespace
 
 TEST(ToneMap, KnownValuesFromTheFormulas) {
-  using glint::ToneMap;
   using glint::tone_map;
+  using glint::ToneMap;
   for (const float x : {0.0f, 0.01f, 0.18f, 0.5f, 1.0f, 2.0f, 7.5f, 100.0f, 1e6f}) {
     SCOPED_TRACE(x);
     EXPECT_EQ(tone_map(x, ToneMap::clamp), std::min(x, 1.0f));
@@ -729,7 +730,8 @@ TEST_F(ImageIo, ExposureAndToneMapChangeOnlyEightBitOutputs) {
   glint::WriteOptions aces;
   aces.tonemap = glint::ToneMap::aces;
   glint::write_image(image, dir_ / "aces.ppm", aces);
-  const Bytes ev1 = ppm_codes(dir_ / "ev1.ppm"), rh = ppm_codes(dir_ / "reinhard.ppm"), ac = ppm_codes(dir_ / "aces.ppm");
+  const Bytes ev1 = ppm_codes(dir_ / "ev1.ppm"), rh = ppm_codes(dir_ / "reinhard.ppm"),
+              ac = ppm_codes(dir_ / "aces.ppm");
   ASSERT_EQ(ev1.size(), image.rgb.size());
   for (size_t i = 0; i < image.rgb.size(); ++i) {
     const float x = image.rgb[i];

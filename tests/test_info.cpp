@@ -46,8 +46,10 @@ TEST(Info, CountsMeshesAndTheirTriangles) {
   fs::create_directories(dir);
   const std::string cube = std::string(GLINT_SOURCE_DIR) + "/tests/meshes/cube.obj";
   std::ofstream(dir / "scene.json") << R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]}, "objects": [
-    {"type": "mesh", "file": ")" << cube << R"("},
-    {"type": "mesh", "file": ")" << cube << R"(", "transform": {"translate": [2, 0, 0]}},
+    {"type": "mesh", "file": ")" << cube
+                                    << R"("},
+    {"type": "mesh", "file": ")" << cube
+                                    << R"(", "transform": {"translate": [2, 0, 0]}},
     {"type": "sphere", "center": [0, 3, 0], "radius": 1}]})";
   const InfoRun r = info(dir / "scene.json");
   fs::remove_all(dir);

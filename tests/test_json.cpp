@@ -35,12 +35,12 @@ Error parse_error(const std::string& text) {
   return Error("no error");
 }
 
-#define EXPECT_JSON_ERROR(text, line, column, msg)        \
-  do {                                                    \
-    Error e_ = parse_error(text);                         \
-    EXPECT_EQ(e_.message(), msg) << "input: " << (text);  \
+#define EXPECT_JSON_ERROR(text, line, column, msg)                                                \
+  do {                                                                                            \
+    Error e_ = parse_error(text);                                                                 \
+    EXPECT_EQ(e_.message(), msg) << "input: " << (text);                                          \
     EXPECT_EQ(lc(e_.location()), LC(line, column)) << "input: " << (text) << " -> " << e_.what(); \
-    EXPECT_EQ(e_.location().file, "t.json");              \
+    EXPECT_EQ(e_.location().file, "t.json");                                                      \
   } while (0)
 
 // --- tree and lookups ----------------------------------------------------------
@@ -134,8 +134,8 @@ TEST(JsonTree, Numbers) {
   EXPECT_EQ(r[6].as_number(), 18446744073709551615.0);
   EXPECT_FALSE(r[6].is_integer());
   EXPECT_EQ(r[7].as_number(), -9223372036854775808.0);
-  EXPECT_TRUE(r[8].is_integer());   // 2^53 - 1
-  EXPECT_FALSE(r[9].is_integer());  // 2^53 + 1 is not representable
+  EXPECT_TRUE(r[8].is_integer());     // 2^53 - 1
+  EXPECT_FALSE(r[9].is_integer());    // 2^53 + 1 is not representable
   EXPECT_EQ(r[10].as_number(), 0.0);  // underflow is not an error
   EXPECT_TRUE(r[11].is_integer());
   EXPECT_TRUE(std::signbit(r[11].as_number()));
@@ -293,7 +293,8 @@ class RandomJson {
     for (unsigned i = next(3); i > 0; --i) text += pieces[next(7)];
   }
   void string() {
-    static const char* pieces[] = {"a", "\\\"", "\\\\", "\\n", "\\u00e9", "\\ud83d\\ude00", "\xC3\xA9", " ", "\\/", "x\\\\\\\""};
+    static const char* pieces[] = {"a",        "\\\"", "\\\\", "\\n",      "\\u00e9", "\\ud83d\\ude00",
+                                   "\xC3\xA9", " ",    "\\/",  "x\\\\\\\""};
     text += '"';
     for (unsigned i = next(5); i > 0; --i) text += pieces[next(10)];
     text += '"';
@@ -303,7 +304,8 @@ class RandomJson {
     unsigned kind = depth == 0 ? 4 + next(2) : depth > 4 ? next(4) : next(6);
     switch (kind) {
       case 0: {
-        static const char* numbers[] = {"0", "-0", "12", "-3.25", "1e5", "2.5E-3", "-7e+2", "640.0", "123456789012345678901"};
+        static const char* numbers[] = {
+            "0", "-0", "12", "-3.25", "1e5", "2.5E-3", "-7e+2", "640.0", "123456789012345678901"};
         text += numbers[next(9)];
         break;
       }
@@ -410,7 +412,7 @@ TEST(JsonPosition, LocationAt) {
   EXPECT_EQ(lc(doc.location_at(0)), LC(1, 1));
   EXPECT_EQ(lc(doc.location_at(3)), LC(1, 4));  // the '\n' ends line 1
   EXPECT_EQ(lc(doc.location_at(4)), LC(2, 1));
-  EXPECT_EQ(lc(doc.location_at(8)), LC(3, 1));    // end of file
+  EXPECT_EQ(lc(doc.location_at(8)), LC(3, 1));     // end of file
   EXPECT_EQ(lc(doc.location_at(1000)), LC(3, 1));  // clamped
 }
 
@@ -476,7 +478,10 @@ TEST(JsonErrors, InvalidLiterals) {
   EXPECT_JSON_ERROR("[1x]", 1, 2, "syntax error: invalid literal '1x'");
   EXPECT_JSON_ERROR("{'a': 1}", 1, 2, "syntax error: unexpected character '''");
   EXPECT_JSON_ERROR("[1, @]", 1, 5, "syntax error: unexpected character '@'");
-  EXPECT_JSON_ERROR("[\xE2\x80\x9C" "a\xE2\x80\x9D]", 1, 2, "syntax error: unexpected byte 0xE2");
+  EXPECT_JSON_ERROR(
+      "[\xE2\x80\x9C"
+      "a\xE2\x80\x9D]",
+      1, 2, "syntax error: unexpected byte 0xE2");
   EXPECT_JSON_ERROR("[1] // comment", 1, 5, "syntax error: unexpected character '/'");
 }
 
@@ -500,7 +505,7 @@ TEST(JsonErrors, InvalidStrings) {
 TEST(JsonErrors, InvalidUtf8) {
   EXPECT_JSON_ERROR("[\"\xFF\"]", 1, 3, "syntax error: invalid string: ill-formed UTF-8 byte");
   EXPECT_JSON_ERROR("{\"ok\": \"caf\xC3\"}", 1, 13, "syntax error: invalid string: ill-formed UTF-8 byte");
-  EXPECT_JSON_ERROR("[\"\xC0\xAF\"]", 1, 3, "syntax error: invalid string: ill-formed UTF-8 byte");  // overlong
+  EXPECT_JSON_ERROR("[\"\xC0\xAF\"]", 1, 3, "syntax error: invalid string: ill-formed UTF-8 byte");      // overlong
   EXPECT_JSON_ERROR("[\"\xED\xA0\x80\"]", 1, 4, "syntax error: invalid string: ill-formed UTF-8 byte");  // surrogate
 }
 

@@ -100,7 +100,7 @@ TEST(MeshFileObj, UsemtlGivesEachFaceItsMaterial) {
   ASSERT_EQ(m.triangle_count(), 14u);
   ASSERT_EQ(m.materials.size(), 13u);
   EXPECT_EQ(m.triangle_material[0], -1);  // before any usemtl
-  const char* names[] = {"illum0", "illum1", "illum2", "illum3", "illum4", "illum5",  "illum6",
+  const char* names[] = {"illum0", "illum1", "illum2", "illum3",  "illum4",   "illum5", "illum6",
                          "illum7", "illum8", "illum9", "illum10", "defaults", "gray"};
   for (size_t t = 1; t < 14; ++t) {
     ASSERT_GE(m.triangle_material[t], 0);
@@ -287,9 +287,9 @@ TEST(MeshFileObj, ByteOrderMarksAndUtf16) {
 TEST(MeshFileNormals, FromTheFileNormalizedWithZeroLengthFallingBack) {
   const MeshFile m = load_mesh_file(fixture("normals.obj"));
   ASSERT_EQ(m.triangle_count(), 2u);
-  expect_vec(m.corner_normals[0], 0, 0.6, 0.8);  // tilted, as the file says
-  expect_vec(m.corner_normals[1], 0, 0, 1);      // "vn 0 0 2" normalized
-  expect_vec(m.corner_normals[2], 0, 0, 1);      // "vn 0 0 0": computed
+  expect_vec(m.corner_normals[0], 0, 0.6, 0.8);                          // tilted, as the file says
+  expect_vec(m.corner_normals[1], 0, 0, 1);                              // "vn 0 0 2" normalized
+  expect_vec(m.corner_normals[2], 0, 0, 1);                              // "vn 0 0 0": computed
   for (int k = 3; k < 6; ++k) expect_vec(m.corner_normals[k], 0, 0, 1);  // face without normals
 }
 
@@ -324,8 +324,8 @@ TEST(MeshFileNormals, AngleWeightsNotAreaWeights) {
 TEST(MeshFileNormals, VerticesAreNotMergedByPosition) {
   // Two faces at right angles that share an edge by position only.
   TempDir dir;
-  const MeshFile m = load_mesh_file(dir.write(
-      "split.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 0\nv 1 0 0\nv 0 0 -1\nf 1 2 3\nf 4 6 5\n"));
+  const MeshFile m = load_mesh_file(
+      dir.write("split.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 0\nv 1 0 0\nv 0 0 -1\nf 1 2 3\nf 4 6 5\n"));
   ASSERT_EQ(m.triangle_count(), 2u);
   for (int k = 0; k < 3; ++k) expect_vec(m.corner_normals[k], 0, 0, 1);
   for (int k = 3; k < 6; ++k) expect_vec(m.corner_normals[k], 0, -1, 0);
@@ -355,8 +355,8 @@ TEST(MeshFileNormals, DegenerateTrianglesDroppedWithOneCountedWarning) {
 
 // quad_normals.ply's mesh as binary PLY, little or big endian.
 std::string binary_ply(bool big_endian, int face_count = 2) {
-  const float v[5][6] = {{0, 0, 0, 0, 0, 1}, {1, 0, 0, 0, 0, 1}, {1, 1, 0, 0, 0.6f, 0.8f},
-                         {0, 1, 0, 0, 0, 1}, {2, 0, 0, 0, 0, -1}};
+  const float v[5][6] = {
+      {0, 0, 0, 0, 0, 1}, {1, 0, 0, 0, 0, 1}, {1, 1, 0, 0, 0.6f, 0.8f}, {0, 1, 0, 0, 0, 1}, {2, 0, 0, 0, 0, -1}};
   std::string out = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
                     " 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
                     "property float nx\nproperty float ny\nproperty float nz\nelement face " +
@@ -422,10 +422,10 @@ TEST(MeshFilePly, BinaryLittleAndBigEndianMatchAscii) {
 TEST(MeshFilePly, WithoutNormalsTheyAreComputed) {
   GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
-  const MeshFile m = load_mesh_file(dir.write(
-      "plain.ply",
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-      "element face 1\nproperty list uchar uint vertex_index\nend_header\n0 0 0\n0 1 0\n0 0 1\n3 0 1 2\n"));
+  const MeshFile m = load_mesh_file(
+      dir.write("plain.ply",
+                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                "element face 1\nproperty list uchar uint vertex_index\nend_header\n0 0 0\n0 1 0\n0 0 1\n3 0 1 2\n"));
   ASSERT_EQ(m.triangle_count(), 1u);
   for (const Vec3f& n : m.corner_normals) expect_vec(n, 1, 0, 0);
 }
@@ -580,8 +580,8 @@ TEST(MeshFileErrors, ObjIndicesThatAreNotWholeNumbersOrOverflow) {
 
 TEST(MeshFileErrors, ObjCoordinatesThatAreNotNumbers) {
   TempDir dir;
-  expect_error(dir.write("word.obj", "v 0 0 0\nv a b c\nv 0 1 0\nf 1 2 3\n"), "vertex coordinate 'a' is not a number", 2,
-               3);
+  expect_error(dir.write("word.obj", "v 0 0 0\nv a b c\nv 0 1 0\nf 1 2 3\n"), "vertex coordinate 'a' is not a number",
+               2, 3);
   expect_error(dir.write("comma.obj", "v 0 0 0\nv 1,5 0 0\nv 0 1 0\nf 1 2 3\n"),
                "vertex coordinate '1,5' is not a number", 2, 3);
   expect_error(dir.write("short.obj", "v 0 0 0\nv 1\nv 0 1 0\nf 1 2 3\n"), "vertex with 1 number (x y z needed)", 2, 4);
@@ -683,8 +683,7 @@ TEST(MeshFileErrors, PlyBadHeaders) {
                "unknown PLY format 'binary_middle_endian'", 2, 8);
   expect_error(dir.write("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n"),
                "unknown PLY type 'quad'", 4, 10);
-  expect_error(dir.write("noxyz.ply",
-                         "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n"),
+  expect_error(dir.write("noxyz.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n"),
                "no x, y, z properties", 3);
   expect_error(dir.write("novertex.ply", "ply\nformat ascii 1.0\nelement face 0\nend_header\n"), "no vertex element");
   expect_error(dir.write("count.ply", "ply\nformat ascii 1.0\nelement vertex -3\nend_header\n"),
@@ -780,9 +779,9 @@ TEST(MeshFileErrors, GltfBrokenData) {
 
 // Claims in the gigabytes must exceed half of this machine's memory for the
 // tests that use the default budget; skip on machines too big for that.
-#define SKIP_IF_MEMORY_ABOVE(bytes)                                                              \
-  if (static_cast<double>(default_memory_budget()) >= (bytes))                                   \
-  GTEST_SKIP() << "this machine has too much memory for a " << (bytes) / double(1 << 30)         \
+#define SKIP_IF_MEMORY_ABOVE(bytes)                                                      \
+  if (static_cast<double>(default_memory_budget()) >= (bytes))                           \
+  GTEST_SKIP() << "this machine has too much memory for a " << (bytes) / double(1 << 30) \
                << " GiB claim to exceed half of it"
 
 std::string slurp(const fs::path& p) {
@@ -960,10 +959,12 @@ TEST(MeshFileLimits, DevicesAreNotMeshFiles) {
 TEST(MeshFileErrors, DamagedFilesOnlyEverThrowGlintErrors) {
   GLINT_SKIP_WITHOUT_ASSIMP();
   TempDir dir;
-  const std::vector<std::pair<std::string, std::string>> originals = {
-      {"m.obj", slurp(fixture("normals.obj"))},    {"q.obj", slurp(fixture("quads.obj"))},
-      {"a.ply", slurp(fixture("quad_normals.ply"))}, {"le.ply", binary_ply(false)},
-      {"be.ply", binary_ply(true)},                {"t.gltf", slurp(fixture("triangle.gltf"))}};
+  const std::vector<std::pair<std::string, std::string>> originals = {{"m.obj", slurp(fixture("normals.obj"))},
+                                                                      {"q.obj", slurp(fixture("quads.obj"))},
+                                                                      {"a.ply", slurp(fixture("quad_normals.ply"))},
+                                                                      {"le.ply", binary_ply(false)},
+                                                                      {"be.ply", binary_ply(true)},
+                                                                      {"t.gltf", slurp(fixture("triangle.gltf"))}};
   std::mt19937 rng(12345);
   const char noise[] = {'0', '9', '-', ' ', '\n', '/', 'e', '.', '\0', '\xff', 'n', '#'};
   for (const auto& [name, original] : originals) {

@@ -25,9 +25,10 @@ namespace fs = std::filesystem;
 
 const fs::path kModels = "/usr/share/assimp/models";
 
-#define SKIP_WITHOUT_TESTMODELS()                                                              \
-  if (!fs::is_directory(kModels / "glTF2"))                                                    \
-  GTEST_SKIP() << kModels << " not found: install Debian's assimp-testmodels package to run " \
+#define SKIP_WITHOUT_TESTMODELS()                                                  \
+  if (!fs::is_directory(kModels / "glTF2"))                                        \
+  GTEST_SKIP() << kModels                                                          \
+               << " not found: install Debian's assimp-testmodels package to run " \
                   "the real-world mesh tests"
 
 struct Model {
@@ -117,7 +118,8 @@ TEST(MeshRealWorld, CliRefusesScenesWithBrokenModelsWithOneErrorLine) {
     const fs::path scene = dir / "scene.json";
     std::ofstream(scene) << R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
  "lights": [{"type": "point", "position": [0, 5, 5], "color": [1, 1, 1]}],
- "objects": [{"type": "mesh", "file": ")" << mesh.string() << R"("}]})";
+ "objects": [{"type": "mesh", "file": ")"
+                         << mesh.string() << R"("}]})";
     const std::string expected = "error: " + mesh.string() + ": " + model.message + "\n";
     std::string out;
     EXPECT_EQ(run(std::string(GLINT_CLI_PATH) + " validate " + scene.string(), out), 1);

@@ -38,9 +38,12 @@ class MeshScene : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
   Scene load(const std::string& objects, const std::string& extra = "") {
-    write("scene.json", R"({"render": {"width": 16, "height": 16}, "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
-      "materials": {"blue": {"diffuse": [0.1, 0.2, 0.9]}}, )" + extra + R"("lights": [{"type": "directional", "direction": [0, 0, -1]}],
-      "objects": [)" + objects + "]}");
+    write("scene.json",
+          R"({"render": {"width": 16, "height": 16}, "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
+      "materials": {"blue": {"diffuse": [0.1, 0.2, 0.9]}}, )" +
+              extra + R"("lights": [{"type": "directional", "direction": [0, 0, -1]}],
+      "objects": [)" +
+              objects + "]}");
     return load_scene(dir_ / "scene.json");
   }
   fs::path dir_;
@@ -152,7 +155,8 @@ TEST_F(MeshScene, MeshFileThatIsAFolderOrADeviceIsAnErrorAtTheSceneKey) {
       EXPECT_GT(e.location().line, 0) << e.what();
       EXPECT_NE(e.message().find("objects[0].file"), std::string::npos) << e.what();
       EXPECT_NE(e.message().find(std::string(name) == "folder.obj" ? "is a directory" : "not a regular file"),
-                std::string::npos) << e.what();
+                std::string::npos)
+          << e.what();
     }
   }
 }

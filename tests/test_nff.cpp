@@ -123,7 +123,7 @@ TEST_F(NffEveryEntity, MaterialsFollowTheMapping) {
   EXPECT_EQ(f1.at("shininess").get<double>(), 1.0);  // max(0.5, 1)
   EXPECT_EQ(f1.at("reflectivity").get<double>(), 0.2);
   EXPECT_EQ(f1.at("transparency").get<double>(), 0.0);
-  EXPECT_FALSE(f1.contains("ior"));      // only when T > 0
+  EXPECT_FALSE(f1.contains("ior"));  // only when T > 0
   EXPECT_FALSE(f1.contains("fresnel"));
   // f 0.9 0.9 1 0.1 0.9 2.5e2 0.75 1.5
   const Json& f2 = m.at("f2");
@@ -297,8 +297,10 @@ void expect_nff_error(const ErrorCase& c) {
 TEST(NffErrors, UnknownEntities) {
   expect_nff_error({kView + "x 1 2 3\n", 8, 1, "unknown entity \"x\" (expected v, b, l, f, c, s, p or pp)"});
   expect_nff_error({kView + "tpp 3\n", 8, 1, "unknown entity \"tpp\" (expected v, b, l, f, c, s, p or pp)"});
-  expect_nff_error({"\xEF\xBB\xBF" "sphere 1\n", 1, 1,
-                    "unknown entity \"sphere\" (expected v, b, l, f, c, s, p or pp)"});
+  expect_nff_error(
+      {"\xEF\xBB\xBF"
+       "sphere 1\n",
+       1, 1, "unknown entity \"sphere\" (expected v, b, l, f, c, s, p or pp)"});
   expect_nff_error({kView + "  \t q\n", 8, 5, "unknown entity \"q\" (expected v, b, l, f, c, s, p or pp)"});
   // A control byte or broken UTF-8 is shown escaped.
   expect_nff_error({kView + "\x01\xFF\n", 8, 1, "unknown entity \"\\x01\\xFF\" (expected v, b, l, f, c, s, p or pp)"});
@@ -310,8 +312,8 @@ TEST(NffErrors, MalformedNumbers) {
   expect_nff_error({kView + "s 0 0 1e 1\n", 8, 7, "s: expected a number (center z), got \"1e\""});
   expect_nff_error({kView + "s 0 0 +-1 1\n", 8, 7, "s: expected a number (center z), got \"+-1\""});
   expect_nff_error({kView + "s 0 0 0x10 1\n", 8, 7, "s: expected a number (center z), got \"0x10\""});
-  expect_nff_error({kView + "s 0 0 0 1" + std::string(1, '\0') + "\n", 8, 9,
-                    "s: expected a number (radius), got \"1\\x00\""});
+  expect_nff_error(
+      {kView + "s 0 0 0 1" + std::string(1, '\0') + "\n", 8, 9, "s: expected a number (radius), got \"1\\x00\""});
   expect_nff_error({kView + "s 0 nan 0 1\n", 8, 5, "s: center y must be a finite number, got \"nan\""});
   expect_nff_error({kView + "s 0 0 0 -inf\n", 8, 9, "s: radius must be a finite number, got \"-inf\""});
   expect_nff_error({kView + "s 0 0 0 1e999\n", 8, 9, "s: radius: the number \"1e999\" is out of range"});
@@ -350,8 +352,8 @@ TEST(NffErrors, MalformedView) {
                     "v: resolution height must be between 1 and 1048576 (got -6)"});
   expect_nff_error({"v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 2.5\n", 7, 14,
                     "v: expected a whole number (resolution height), got \"2.5\""});
-  expect_nff_error({"v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 99999999999999999999\n", 7,
-                    14, "v: resolution height \"99999999999999999999\" is out of range (at most 1048576)"});
+  expect_nff_error({"v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 99999999999999999999\n", 7, 14,
+                    "v: resolution height \"99999999999999999999\" is out of range (at most 1048576)"});
 }
 
 TEST(NffErrors, TruncatedEntities) {
@@ -551,7 +553,8 @@ class NffCli : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    work_ = fs::temp_directory_path() / ("glint-nff-cli-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
+    work_ =
+        fs::temp_directory_path() / ("glint-nff-cli-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
     fs::remove_all(work_);
     fs::create_directories(work_);
     for (const char* name : {"spheres.nff", "one-sphere.nff"}) fs::copy_file(kNffDir / name, work_ / name);
@@ -722,8 +725,8 @@ std::optional<RayStats> spd_counts(const char* file, Image* image = nullptr) {
 
 TEST(NffSpd, RayCountsWithinTenPercentOfPublished) {
   // The SPD README's table (bench/spd/README.md, docs/nff.md).
-  for (const Published& p : {Published{"balls.nff", 263169, 175095, 0, 954368},
-                             Published{"tetra.nff", 49788, 0, 0, 46112}}) {
+  for (const Published& p :
+       {Published{"balls.nff", 263169, 175095, 0, 954368}, Published{"tetra.nff", 49788, 0, 0, 46112}}) {
     SCOPED_TRACE(p.file);
     const std::optional<RayStats> rays = spd_counts(p.file);
     if (!rays) GTEST_SKIP() << "polygons do not load yet";

@@ -149,8 +149,8 @@ TEST(Passes, MissesPutTheBackgroundInAmbientAndZeroElsewhere) {
   const float* ambient = pass_image(r, Pass::ambient).pixel(0, 0);
   EXPECT_EQ(ambient[0], 0.2f);
   EXPECT_EQ(ambient[2], 0.5f);
-  for (Pass p : {Pass::diffuse, Pass::specular, Pass::reflection, Pass::transmission, Pass::normal, Pass::depth,
-                 Pass::albedo}) {
+  for (Pass p :
+       {Pass::diffuse, Pass::specular, Pass::reflection, Pass::transmission, Pass::normal, Pass::depth, Pass::albedo}) {
     const float* v = pass_image(r, p).pixel(0, 0);
     EXPECT_EQ(v[0], 0.0f) << pass_name(p);
     EXPECT_EQ(v[1], 0.0f) << pass_name(p);

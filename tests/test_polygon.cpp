@@ -116,8 +116,18 @@ TEST(Polygon, NonConvexPolygonsHitOnlyInside) {
   // An L, a comb, and a star-shaped outline, each wound either way.
   const std::vector<std::vector<Vec3>> shapes = {
       {{0, 0, 1}, {3, 0, 1}, {3, 1, 1}, {1, 1, 1}, {1, 3, 1}, {0, 3, 1}},
-      {{0, 0, 0}, {5, 0, 0}, {5, 3, 0}, {4, 3, 0}, {4, 1, 0}, {3, 1, 0}, {3, 3, 0}, {2, 3, 0}, {2, 1, 0},
-       {1, 1, 0}, {1, 3, 0}, {0, 3, 0}},
+      {{0, 0, 0},
+       {5, 0, 0},
+       {5, 3, 0},
+       {4, 3, 0},
+       {4, 1, 0},
+       {3, 1, 0},
+       {3, 3, 0},
+       {2, 3, 0},
+       {2, 1, 0},
+       {1, 1, 0},
+       {1, 3, 0},
+       {0, 3, 0}},
   };
   std::vector<std::vector<Vec3>> all = shapes;
   std::vector<Vec3> star;
@@ -179,8 +189,8 @@ TEST(Polygon, InnerEdgesHaveNoCrack) {
 }
 
 TEST(Polygon, GearOf144VerticesAtSixDigitsIsAccepted) {
-  for (const auto& [cx, cy, z] : std::vector<std::array<double, 3>>{{0, 0, 0}, {12.3457, -7.65432, 3.14159},
-                                                                     {-123.457, 456.789, -0.001234}}) {
+  for (const auto& [cx, cy, z] :
+       std::vector<std::array<double, 3>>{{0, 0, 0}, {12.3457, -7.65432, 3.14159}, {-123.457, 456.789, -0.001234}}) {
     const std::vector<Vec3> v = gear(36, cx, cy, z, 2.1, 2.6);
     ASSERT_EQ(v.size(), 144u);
     const Polygon p = build(v);
@@ -213,7 +223,8 @@ TEST(Polygon, GridFindsWhatEveryTriangleFinds) {
   for (int shape = 0; shape < 6; ++shape) {
     std::vector<Vec3> v = gear(36, 1.5 * shape, -0.5, 0.25 * shape, 0.8, 1.0);
     // Tilted about x and y, and (for some) every vertex nudged off the plane.
-    const Transform tilt = compose(Transform::rotate({1, 0, 0}, 17.0 * shape), Transform::rotate({0, 1, 0}, 29.0 * shape));
+    const Transform tilt =
+        compose(Transform::rotate({1, 0, 0}, 17.0 * shape), Transform::rotate({0, 1, 0}, 29.0 * shape));
     for (size_t i = 0; i < v.size(); ++i) {
       v[i] = tilt.point(v[i]);
       if (shape % 2 && i > 2) v[i] += (0.9e-5 * 2.0 * (rng.next_double() - 0.5)) * Vec3(0.3, -0.4, 0.85);
@@ -293,8 +304,9 @@ TEST(Polygon, BvhAgreesWithBruteForce) {
   for (int i = 0; i < 120; ++i) {
     const double cx = rng.next_double() * 20 - 10, cy = rng.next_double() * 20 - 10, z = rng.next_double() * 20 - 10;
     std::optional<Transform> xf;
-    if (i % 2) xf = compose(Transform::rotate(normalize({rng.next_double(), 1, rng.next_double()}), 360 * rng.next_double()),
-                            Transform::scale({1, 0.5 + rng.next_double(), 1}));
+    if (i % 2)
+      xf = compose(Transform::rotate(normalize({rng.next_double(), 1, rng.next_double()}), 360 * rng.next_double()),
+                   Transform::scale({1, 0.5 + rng.next_double(), 1}));
     const std::vector<Vec3> v = gear(6 + i % 20, 0, 0, 0, 0.5, 0.5 + rng.next_double());
     add_polygon(scene, build(v), 0,
                 xf ? std::optional<Transform>(compose(Transform::translate({cx, cy, z}), *xf))
@@ -357,13 +369,13 @@ TEST(NewObjectsAnimation, FramesMoveTheShapes) {
 
 // --- the loader ---------------------------------------------------------------
 
-
 // `object` with one '@' where the error must point: the message must contain
 // `message_part` and the error sit at that line and column.
 void expect_object_error(std::string_view object, std::string_view message_part) {
   SCOPED_TRACE(std::string(message_part));
-  const std::string marked = std::string("{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},\n"
-                                         "\"objects\": [\n") +
+  const std::string marked = std::string(
+                                 "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},\n"
+                                 "\"objects\": [\n") +
                              std::string(object) + "]}";
   const size_t at = marked.find('@');
   ASSERT_NE(at, std::string::npos);
@@ -433,16 +445,18 @@ TEST(NewObjectsLoader, EveryErrorNamesItsValue) {
                       "objects[0].base_radius: must be >= 0 (got -1)");
   expect_object_error(R"({"type": "cone", "base": [0, 0, 0], "apex": [0, 1, 0], "base_radius": 1, @"apex_raduis": 1})",
                       "did you mean \"apex_radius\"?");
-  expect_object_error(R"({"type": "cone", "base": [0, 0, 0], "apex": [0, 1, @1e999], "base_radius": 1, "apex_radius": 1})",
-                      "number out of range: 1e999");
+  expect_object_error(
+      R"({"type": "cone", "base": [0, 0, 0], "apex": [0, 1, @1e999], "base_radius": 1, "apex_radius": 1})",
+      "number out of range: 1e999");
   expect_object_error(R"({"type": @"cylindre"})", "unknown object type \"cylindre\" (did you mean \"cylinder\"?)");
   // Disks.
   expect_object_error(R"({"type": "disk", "center": [0, 0, 0], "normal": @[0, 0, 0], "radius": 1})",
                       "objects[0].normal: must be a non-zero vector");
   expect_object_error(R"({"type": "disk", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1, "inner_radius": @1})",
                       "objects[0].inner_radius: must be less than \"radius\"");
-  expect_object_error(R"({"type": "disk", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1, "inner_radius": @-0.5})",
-                      "objects[0].inner_radius: must be >= 0");
+  expect_object_error(
+      R"({"type": "disk", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1, "inner_radius": @-0.5})",
+      "objects[0].inner_radius: must be >= 0");
   // Polygons.
   expect_object_error(R"({"type": "polygon", "vertices": @[[0, 0, 0], [1, 0, 0]]})",
                       "objects[0].vertices: a polygon needs at least three vertices (got 2)");
@@ -453,8 +467,9 @@ TEST(NewObjectsLoader, EveryErrorNamesItsValue) {
                       "objects[0].vertices: the first three vertices are collinear");
   expect_object_error(R"({"type": "polygon", "vertices": @[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.1]]})",
                       "objects[0].vertices: not planar: vertex 3 is 0.1 from the plane of the first three vertices");
-  expect_object_error(R"({"type": "polygon", "vertices": @[[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0]]})",
-                      "objects[0].vertices: self-intersecting: the edge from vertex 0 to 1 meets the edge from vertex 2 to 3");
+  expect_object_error(
+      R"({"type": "polygon", "vertices": @[[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0]]})",
+      "objects[0].vertices: self-intersecting: the edge from vertex 0 to 1 meets the edge from vertex 2 to 3");
   expect_object_error(R"({"type": "polygon", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0]], "normals": @[[0, 0, 1]]})",
                       "objects[0].normals: expected one normal per vertex (3), got 1");
   expect_object_error(R"({"type": "polygon", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0]],

@@ -237,9 +237,9 @@ TEST(Disk, AnnulusAndItsNormal) {
   expect_vec(p.sp.geometric_normal, {0, 1, 0}, 0);
   ASSERT_TRUE(p.trace({{0, -1, 1.5}, {0, 1, 0}}));  // from below: still its `normal`
   expect_vec(p.sp.geometric_normal, {0, 1, 0}, 0);
-  EXPECT_FALSE(p.trace({{0.5, 3, 0}, {0, -1, 0}}));   // the hole
-  EXPECT_FALSE(p.trace({{2.5, 3, 0}, {0, -1, 0}}));   // outside
-  EXPECT_FALSE(p.trace({{1.5, 3, 0}, {1, 0, 0}}));    // parallel
+  EXPECT_FALSE(p.trace({{0.5, 3, 0}, {0, -1, 0}}));  // the hole
+  EXPECT_FALSE(p.trace({{2.5, 3, 0}, {0, -1, 0}}));  // outside
+  EXPECT_FALSE(p.trace({{1.5, 3, 0}, {1, 0, 0}}));   // parallel
   ASSERT_TRUE(p.trace({{0, 3, 0}, {1, -1, 0}}));     // slanted, lands at x = 2 (the edge)
   EXPECT_NEAR(p.hit->t, 2, kTol);
   // A tilted full disk: the hit where the plane is, within the radius.
@@ -300,7 +300,9 @@ Scene random_shapes(uint64_t seed, int count) {
                            Transform::scale({uniform(0.3, 2), uniform(0.3, 2), uniform(0.3, 2)})));
     const Vec3 c = point(10);
     switch (i % 4) {
-      case 0: add_cone(scene, make_cone(c, c + point(2), uniform(0.1, 1), uniform(0.1, 1), i % 8 == 0), 0, xf, false); break;
+      case 0:
+        add_cone(scene, make_cone(c, c + point(2), uniform(0.1, 1), uniform(0.1, 1), i % 8 == 0), 0, xf, false);
+        break;
       case 1: add_cone(scene, make_cone(c, c + point(2), 0.5, 0.5, i % 8 != 1), 0, xf, true); break;
       case 2: add_disk(scene, Disk{c, normalize(point(1) + Vec3(0.01)), 1, i % 8 == 2 ? 0.5 : 0}, 0, xf); break;
       case 3: add_cone(scene, make_cone(c, c + point(2), 0, uniform(0.2, 1), true), 0, xf, false); break;

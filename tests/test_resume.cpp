@@ -2,23 +2,23 @@
 // and a resume file; finishing it gives the very bytes of an uninterrupted
 // render. Checked in the library (tiles, resume files) and end to end with a
 // real SIGINT to the glint command.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
-#include <span>
-#include <string>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <span>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -53,7 +53,7 @@ TEST(Resume, FinishingMarkedTilesGivesTheSameImage) {
   TileProgress tiles(scene.render.width, scene.render.height, 16);
   TileProgress first(scene.render.width, scene.render.height, 16);
   for (size_t t = 0; t < first.done.size(); ++t) first.done[t] = t % 3 != 0;  // tiles not to render now
-  ASSERT_TRUE(render_tiles(scene, *accel, image, first));  // renders the t % 3 == 0 tiles
+  ASSERT_TRUE(render_tiles(scene, *accel, image, first));                     // renders the t % 3 == 0 tiles
   for (size_t t = 0; t < first.done.size(); ++t) tiles.done[t] = t % 3 == 0;
   EXPECT_TRUE(render_tiles(scene, *accel, image, tiles));
   EXPECT_EQ(image.rgb, whole.rgb);
@@ -209,8 +209,8 @@ TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
   // delay from the launch sometimes landed before that on a loaded CI machine,
   // and the default action killed glint without a word. The render must stop
   // within a second of the signal.
-  const pid_t pid = spawn_with_stderr({glint, "render", scene, "-o", out, "--width", "240", "--height", "135",
-                                       "--spp", "64", "--threads", "2", "--passes", "diffuse,depth", "--quiet"},
+  const pid_t pid = spawn_with_stderr({glint, "render", scene, "-o", out, "--width", "240", "--height", "135", "--spp",
+                                       "64", "--threads", "2", "--passes", "diffuse,depth", "--quiet"},
                                       dir / "err.txt");
   ASSERT_GT(pid, 0);
   const bool handler = wait_for_sigint_handler(pid, 30.0);
@@ -305,8 +305,9 @@ TEST(ResumeCli, EditedMeshFileRefusesTheResume) {
   std::ifstream in(err);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "error: " + out + ".glint-resume: made for a different scene, different scene files (meshes, "
-                    "textures) or different settings; delete it to render from the start");
+  EXPECT_EQ(line, "error: " + out +
+                      ".glint-resume: made for a different scene, different scene files (meshes, "
+                      "textures) or different settings; delete it to render from the start");
   EXPECT_TRUE(fs::exists(out + ".glint-resume"));
   fs::remove_all(dir);
 }

@@ -73,8 +73,8 @@ void expect_error(std::string_view marked, std::string_view message_part) {
     EXPECT_EQ(e.location().file, kFile);
     EXPECT_EQ(e.location().line, m.line) << "what(): " << e.what();
     EXPECT_EQ(e.location().column, m.column) << "what(): " << e.what();
-    EXPECT_EQ(std::string(e.what()), std::string(kFile) + ":" + std::to_string(m.line) + ":" +
-                                         std::to_string(m.column) + ": " + e.message());
+    EXPECT_EQ(std::string(e.what()),
+              std::string(kFile) + ":" + std::to_string(m.line) + ":" + std::to_string(m.column) + ": " + e.message());
   }
 }
 
@@ -148,7 +148,8 @@ TEST(SceneLoaderRender, EveryKeyIsRead) {
   ASSERT_TRUE(s.render.epsilon.has_value());
   EXPECT_EQ(*s.render.epsilon, 0.001);
 
-  const Scene p = parse_with(R"("render": {"shading_model": "phong", "background": 0.25, "width": 6.4e2}, "objects": [])");
+  const Scene p =
+      parse_with(R"("render": {"shading_model": "phong", "background": 0.25, "width": 6.4e2}, "objects": [])");
   EXPECT_EQ(p.render.shading_model, ShadingModel::phong);
   EXPECT_EQ(p.render.background, Color(0.25));  // one number means gray
   EXPECT_EQ(p.render.width, 640);               // a whole number written as a float is fine
@@ -465,12 +466,10 @@ TEST(SceneLoaderFiles, LoadSceneReadsAFileAndNamesItInErrors) {
 // --- errors ------------------------------------------------------------------
 
 TEST(SceneLoaderErrors, JsonSyntax) {
-  expect_error("{\"camera\": {\"position\": [0, 0, 5]\n   @\"look_at\": [0, 0, 0]}, \"objects\": []}",
-               "syntax error");
+  expect_error("{\"camera\": {\"position\": [0, 0, 5]\n   @\"look_at\": [0, 0, 0]}, \"objects\": []}", "syntax error");
   expect_error("{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]}, \"objects\": [1, 2]@]}",
                "syntax error");
-  expect_error("{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]}, \"objects\": [@NaN]}",
-               "syntax error");
+  expect_error("{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]}, \"objects\": [@NaN]}", "syntax error");
   expect_error("{\"objects\": [], \"camera\": {} } @x", "syntax error");
 }
 
@@ -482,7 +481,8 @@ TEST(SceneLoaderErrors, EmptyFileAndTopLevelNotAnObject) {
 }
 
 TEST(SceneLoaderErrors, DuplicateKey) {
-  expect_object_error(R"({"type": "sphere", "radius": 1, "center": [0, 0, 0], @"radius": 2})", "duplicate key \"radius\"");
+  expect_object_error(R"({"type": "sphere", "radius": 1, "center": [0, 0, 0], @"radius": 2})",
+                      "duplicate key \"radius\"");
 }
 
 TEST(SceneLoaderErrors, DeepNesting) {
@@ -548,8 +548,9 @@ TEST(SceneLoaderErrors, MissingRequiredKey) {
   expect_object_error(R"(@{"type": "box", "min": [1, 1, 1]})", "missing required key \"max\"");
   expect_object_error(R"({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": {"rotate": @{"angle": 3}}})",
                       "objects[0].transform.rotate: missing required key \"axis\"");
-  expect_object_error(R"({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": {"rotate": @{"axis": [1, 0, 0]}}})",
-                      "objects[0].transform.rotate: missing required key \"angle\"");
+  expect_object_error(
+      R"({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": {"rotate": @{"axis": [1, 0, 0]}}})",
+      "objects[0].transform.rotate: missing required key \"angle\"");
   expect_light_error(R"(@{"position": [0, 0, 0]})", "lights[0]: missing required key \"type\"");
   expect_light_error(R"(@{"type": "point"})", "lights[0]: missing required key \"position\"");
   expect_light_error(R"(@{"type": "directional"})", "lights[0]: missing required key \"direction\"");
@@ -557,9 +558,12 @@ TEST(SceneLoaderErrors, MissingRequiredKey) {
                      "lights[0]: missing required key \"cutoff\"");
   expect_light_error(R"(@{"type": "spot", "position": [0, 0, 0], "cutoff": 10})",
                      "lights[0]: missing required key \"direction\"");
-  expect_light_error(R"(@{"type": "area", "edge_u": [1, 0, 0], "edge_v": [0, 0, 1]})", "missing required key \"corner\"");
-  expect_light_error(R"(@{"type": "area", "corner": [0, 0, 0], "edge_v": [0, 0, 1]})", "missing required key \"edge_u\"");
-  expect_light_error(R"(@{"type": "area", "corner": [0, 0, 0], "edge_u": [0, 0, 1]})", "missing required key \"edge_v\"");
+  expect_light_error(R"(@{"type": "area", "edge_u": [1, 0, 0], "edge_v": [0, 0, 1]})",
+                     "missing required key \"corner\"");
+  expect_light_error(R"(@{"type": "area", "corner": [0, 0, 0], "edge_v": [0, 0, 1]})",
+                     "missing required key \"edge_u\"");
+  expect_light_error(R"(@{"type": "area", "corner": [0, 0, 0], "edge_u": [0, 0, 1]})",
+                     "missing required key \"edge_v\"");
 }
 
 TEST(SceneLoaderErrors, UnknownKeysGetAHint) {
@@ -568,21 +572,25 @@ TEST(SceneLoaderErrors, UnknownKeysGetAHint) {
   expect_error(std::string("{") + kCamera + R"(, "objects": [], @"light": []})",
                "unknown key \"light\" (did you mean \"lights\"?)");
   expect_error(std::string("{") + kCamera + R"(, "objects": [],
-                 @"frobnicate": 1})", "unknown key \"frobnicate\" (expected one of \"render\", \"camera\"");
-  expect_error_with(R"("objects": [], "render": {@"widht": 10})", "render: unknown key \"widht\" (did you mean \"width\"?)");
+                 @"frobnicate": 1})",
+               "unknown key \"frobnicate\" (expected one of \"render\", \"camera\"");
+  expect_error_with(R"("objects": [], "render": {@"widht": 10})",
+                    "render: unknown key \"widht\" (did you mean \"width\"?)");
   expect_error(R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], @"fov": 30}, "objects": []})",
                "camera: unknown key \"fov\" (did you mean \"fov_y\"?)");
   expect_error_with(R"("objects": [], "materials": {"m": {@"shinyness": 3}})",
                     "materials.m: unknown key \"shinyness\" (did you mean \"shininess\"?)");
   expect_light_error(R"({"type": "point", "position": [0, 0, 0], @"colour": 1})",
                      "lights[0]: unknown key \"colour\" (did you mean \"color\"?)");
-  expect_object_error(R"({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": {@"translation": [1, 0, 0]}})",
-                      "objects[0].transform: unknown key \"translation\" (did you mean \"translate\"?)");
+  expect_object_error(
+      R"({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": {@"translation": [1, 0, 0]}})",
+      "objects[0].transform: unknown key \"translation\" (did you mean \"translate\"?)");
   // Keys are shown escaped (a message is one line) and cut short when long.
   expect_object_error(R"({"type": "sphere", "center": [0, 0, 0], "radius": 1, @"a\nb\"c": 1})",
                       "unknown key \"a\\u000Ab\\\"c\"");
-  expect_object_error(R"({"type": "sphere", "center": [0, 0, 0], "radius": 1, @")" + std::string(100000, 'k') + R"(": 1})",
-                      "unknown key \"" + std::string(64, 'k') + "...\"");
+  expect_object_error(
+      R"({"type": "sphere", "center": [0, 0, 0], "radius": 1, @")" + std::string(100000, 'k') + R"(": 1})",
+      "unknown key \"" + std::string(64, 'k') + "...\"");
   expect_error_with(R"("objects": [], "materials": {"x\ty": {"ior": @0}})", "materials.x\\u0009y.ior: must be > 0");
   // A key that belongs to another shape or light type.
   expect_object_error(R"({"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], @"radius": 1})",
@@ -594,7 +602,8 @@ TEST(SceneLoaderErrors, UnknownKeysGetAHint) {
 TEST(SceneLoaderErrors, UnknownNamesAndEnumValuesGetAHint) {
   expect_object_error(R"({"type": @"sphre", "center": [0, 0, 0], "radius": 1})",
                       "objects[0].type: unknown object type \"sphre\" (did you mean \"sphere\"?)");
-  expect_object_error(R"({"type": @"torus"})", "objects[0].type: unknown object type \"torus\" (expected one of \"sphere\"");
+  expect_object_error(R"({"type": @"torus"})",
+                      "objects[0].type: unknown object type \"torus\" (expected one of \"sphere\"");
   expect_light_error(R"({"type": @"spott", "position": [0, 0, 0]})",
                      "lights[0].type: unknown light type \"spott\" (did you mean \"spot\"?)");
   expect_error(R"({"camera": {"type": @"orthografic", "position": [0, 0, 1], "look_at": [0, 0, 0]}, "objects": []})",
@@ -614,31 +623,41 @@ TEST(SceneLoaderErrors, UnknownMaterial) {
 }
 
 TEST(SceneLoaderErrors, NonPositiveSizes) {
-  expect_object_error(R"({"type": "sphere", "center": [0, 0, 0], "radius": @-1})", "objects[0].radius: must be > 0 (got -1)");
-  expect_object_error(R"({"type": "sphere", "center": [0, 0, 0], "radius": @0})", "objects[0].radius: must be > 0 (got 0)");
-  expect_object_error(R"({"type": "box", "min": [0, 0, 0], "max": @[1, 0, 1]})", "objects[0].max: must be greater than \"min\"");
-  expect_object_error(R"({"type": "box", "min": [0, 0, 0], "max": @[1, 1, -1]})", "objects[0].max: must be greater than \"min\"");
+  expect_object_error(R"({"type": "sphere", "center": [0, 0, 0], "radius": @-1})",
+                      "objects[0].radius: must be > 0 (got -1)");
+  expect_object_error(R"({"type": "sphere", "center": [0, 0, 0], "radius": @0})",
+                      "objects[0].radius: must be > 0 (got 0)");
+  expect_object_error(R"({"type": "box", "min": [0, 0, 0], "max": @[1, 0, 1]})",
+                      "objects[0].max: must be greater than \"min\"");
+  expect_object_error(R"({"type": "box", "min": [0, 0, 0], "max": @[1, 1, -1]})",
+                      "objects[0].max: must be greater than \"min\"");
   expect_error_with(R"("objects": [], "render": {"width": @0})", "render.width: must be >= 1 (got 0)");
   expect_error_with(R"("objects": [], "render": {"height": @-5})", "render.height: must be >= 1 (got -5)");
-  expect_error_with(R"("objects": [], "render": {"samples_per_pixel": @0})", "render.samples_per_pixel: must be >= 1 (got 0)");
+  expect_error_with(R"("objects": [], "render": {"samples_per_pixel": @0})",
+                    "render.samples_per_pixel: must be >= 1 (got 0)");
   expect_error_with(R"("objects": [], "render": {"max_depth": @0})", "render.max_depth: must be >= 1 (got 0)");
   expect_error_with(R"("objects": [], "render": {"epsilon": @0})", "render.epsilon: must be > 0");
-  expect_error_with(R"("objects": [], "materials": {"m": {"shininess": @0}})", "materials.m.shininess: must be > 0 (got 0)");
+  expect_error_with(R"("objects": [], "materials": {"m": {"shininess": @0}})",
+                    "materials.m.shininess: must be > 0 (got 0)");
   expect_error_with(R"("objects": [], "materials": {"m": {"ior": @-1.5}})", "materials.m.ior: must be > 0");
-  expect_error_with(R"("objects": [], "materials": {"m": {"transparency": @-0.5}})", "materials.m.transparency: must be >= 0");
+  expect_error_with(R"("objects": [], "materials": {"m": {"transparency": @-0.5}})",
+                    "materials.m.transparency: must be >= 0");
   expect_error_with(R"("objects": [], "materials": {"m": {"diffuse": @[0.5, -0.1, 0]}})", "must be >= 0");
   expect_error(R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "fov_y": @0}, "objects": []})",
                "camera.fov_y: must be between 0 and 180");
   expect_error(R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "fov_y": @180}, "objects": []})",
                "camera.fov_y: must be between 0 and 180");
   expect_error(R"({"camera": {"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "view_height": @-2},
-                   "objects": []})", "camera.view_height: must be > 0 (got -2)");
+                   "objects": []})",
+               "camera.view_height: must be > 0 (got -2)");
   expect_light_error(R"({"type": "spot", "position": [0, 0, 0], "direction": [0, -1, 0], "cutoff": @0})",
                      "lights[0].cutoff: must be in (0, 180]");
-  expect_light_error(R"({"type": "spot", "position": [0, 0, 0], "direction": [0, -1, 0], "cutoff": 10, "falloff": @-1})",
-                     "lights[0].falloff: must be >= 0");
-  expect_light_error(R"({"type": "area", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "samples": @0})",
-                     "lights[0].samples: must be >= 1 (got 0)");
+  expect_light_error(
+      R"({"type": "spot", "position": [0, 0, 0], "direction": [0, -1, 0], "cutoff": 10, "falloff": @-1})",
+      "lights[0].falloff: must be >= 0");
+  expect_light_error(
+      R"({"type": "area", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "samples": @0})",
+      "lights[0].samples: must be >= 1 (got 0)");
   expect_light_error(R"({"type": "area", "corner": [0, 0, 0], "edge_u": @[1, 0, 0], "edge_v": [2, 0, 0]})",
                      "lights[0].edge_u: edge_u and edge_v must span a parallelogram of non-zero area");
   expect_light_error(R"({"type": "point", "position": [0, 0, 0], "attenuation": @[0, 0, 0]})",
@@ -648,25 +667,32 @@ TEST(SceneLoaderErrors, NonPositiveSizes) {
 }
 
 TEST(SceneLoaderErrors, NonIntegerAndOutOfRangeCounts) {
-  expect_error_with(R"("objects": [], "render": {"width": @640.5})", "render.width: expected a whole number, got 640.5");
-  expect_error_with(R"("objects": [], "render": {"samples_per_pixel": @1.5})", "render.samples_per_pixel: expected a whole number");
-  expect_error_with(R"("objects": [], "render": {"max_depth": @"5"})", "render.max_depth: expected a number, got string");
+  expect_error_with(R"("objects": [], "render": {"width": @640.5})",
+                    "render.width: expected a whole number, got 640.5");
+  expect_error_with(R"("objects": [], "render": {"samples_per_pixel": @1.5})",
+                    "render.samples_per_pixel: expected a whole number");
+  expect_error_with(R"("objects": [], "render": {"max_depth": @"5"})",
+                    "render.max_depth: expected a number, got string");
   expect_error_with(R"("objects": [], "render": {"width": @1e300})", "render.width: expected a whole number");
   expect_error_with(R"("objects": [], "render": {"height": @3000000000})", "render.height: must be <= ");
-  expect_light_error(R"({"type": "area", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "samples": @2.5})",
-                     "lights[0].samples: expected a whole number");
+  expect_light_error(
+      R"({"type": "area", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "samples": @2.5})",
+      "lights[0].samples: expected a whole number");
 }
 
 TEST(SceneLoaderErrors, AbsurdImageSizeIsACleanError) {
   // 1e6 x 1e6 pixels would need 12 TB: refused before anything is allocated.
-  expect_error_with(R"("objects": [], "render": {"width": @1000000, "height": 1000000})", "1000000x1000000 pixels needs");
-  expect_error_with(R"("objects": [], "render": {"height": 1000000, "width": @1000000})", "1000000x1000000 pixels needs");
+  expect_error_with(R"("objects": [], "render": {"width": @1000000, "height": 1000000})",
+                    "1000000x1000000 pixels needs");
+  expect_error_with(R"("objects": [], "render": {"height": 1000000, "width": @1000000})",
+                    "1000000x1000000 pixels needs");
 }
 
 TEST(SceneLoaderErrors, ZeroLengthDirections) {
   expect_object_error(R"({"type": "plane", "point": [0, 0, 0], "normal": @[0, 0, 0]})",
                       "objects[0].normal: must be a non-zero vector");
-  expect_light_error(R"({"type": "directional", "direction": @[0, 0, 0]})", "lights[0].direction: must be a non-zero vector");
+  expect_light_error(R"({"type": "directional", "direction": @[0, 0, 0]})",
+                     "lights[0].direction: must be a non-zero vector");
   expect_light_error(R"({"type": "spot", "position": [0, 0, 0], "direction": @[0, 0, 0], "cutoff": 5})",
                      "lights[0].direction: must be a non-zero vector");
   expect_error(R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "up": @[0, 0, 0]}, "objects": []})",
@@ -697,7 +723,8 @@ TEST(SceneLoaderErrors, ColorWithDiffuseOrSpecular) {
   expect_light_error(R"({"type": "point", "position": [0, 0, 0], "color": @1, "diffuse": 0.5})",
                      "lights[0].color: give either \"color\" or \"diffuse\"/\"specular\", not both");
   expect_light_error(R"({"type": "spot", "position": [0, 0, 0], "direction": [0, -1, 0], "cutoff": 9,
-                         "specular": 0.5, "color": @1})", "not both");
+                         "specular": 0.5, "color": @1})",
+                     "not both");
   expect_light_error(R"({"type": "ambient", "color": @1, "ambient": 0.5})",
                      "lights[0].color: give either \"color\" or \"ambient\", not both");
 }
@@ -712,7 +739,8 @@ TEST(SceneLoaderErrors, AttenuationOnDirectionalOrAmbientLight) {
 
 TEST(SceneLoaderErrors, SingularTransforms) {
   const std::string box = R"({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": )";
-  expect_object_error(box + R"({"scale": @0}})", "objects[0].transform.scale: a zero scale makes the transform singular");
+  expect_object_error(box + R"({"scale": @0}})",
+                      "objects[0].transform.scale: a zero scale makes the transform singular");
   expect_object_error(box + R"({"scale": @[1, 0, 1]}})", "singular");
   expect_object_error(box + R"({"matrix": @[1, 0, 0, 0,  0, 1, 0, 0,  1, 0, 0, 0,  0, 0, 0, 1]}})",
                       "objects[0].transform.matrix: the matrix is singular");
@@ -724,21 +752,21 @@ TEST(SceneLoaderErrors, SingularTransforms) {
   expect_object_error(box + R"(@{"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1], "scale": 2}})",
                       "\"matrix\" cannot be combined");
   // A singular transform of a plane or triangle, too.
-  expect_object_error(R"({"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "transform": {"scale": @[2, 0, 2]}})",
-                      "singular");
+  expect_object_error(
+      R"({"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "transform": {"scale": @[2, 0, 2]}})", "singular");
 }
 
 TEST(SceneLoaderErrors, DegenerateShapes) {
   expect_object_error(R"({"type": "triangle", "vertices": @[[0, 0, 0], [1, 1, 1], [2, 2, 2]]})",
                       "objects[0].vertices: degenerate triangle");
   expect_object_error(R"({"type": "triangle", "vertices": @[[0, 0, 0], [0, 0, 0], [0, 1, 0]]})", "degenerate triangle");
-  expect_object_error(R"({"type": "triangle", "vertices": @[[0, 0, 0], [1, 0, 0]]})", "objects[0].vertices: expected three vertices");
+  expect_object_error(R"({"type": "triangle", "vertices": @[[0, 0, 0], [1, 0, 0]]})",
+                      "objects[0].vertices: expected three vertices");
   expect_object_error(R"({"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], @[0, 1]]})",
                       "objects[0].vertices[2]: expected [x, y, z]");
 }
 
 // --- glint additions: pixel filter and adaptive sampling -----------------------
-
 
 TEST(SceneLoaderRender, PixelFilterAndAdaptive) {
   EXPECT_EQ(parse_with(R"("objects": [])").render.pixel_filter.type, FilterType::box);
@@ -756,16 +784,19 @@ TEST(SceneLoaderRender, PixelFilterAndAdaptive) {
   ASSERT_TRUE(m.render.adaptive.has_value());
   EXPECT_EQ(m.render.adaptive->max_samples_per_pixel, 64);
   EXPECT_EQ(m.render.adaptive->threshold, 0.2);
-  EXPECT_EQ(parse_with(R"("render": {"pixel_filter": {"type": "mitchell"}}, "objects": [])").render.pixel_filter.radius, 2);
-  EXPECT_EQ(parse_with(R"("render": {"adaptive": {"max_samples_per_pixel": 8}}, "objects": [])").render.adaptive->threshold,
-            0.05);
+  EXPECT_EQ(parse_with(R"("render": {"pixel_filter": {"type": "mitchell"}}, "objects": [])").render.pixel_filter.radius,
+            2);
+  EXPECT_EQ(
+      parse_with(R"("render": {"adaptive": {"max_samples_per_pixel": 8}}, "objects": [])").render.adaptive->threshold,
+      0.05);
 }
 
 TEST(SceneLoaderRender, PixelFilterAndAdaptiveErrors) {
   expect_error_with(R"("render": {"pixel_filter": @"gausian"}, "objects": [])", "did you mean \"gaussian\"");
   expect_error_with(R"("render": {"pixel_filter": {"type": "gaussian", "radius": @0}}, "objects": [])",
                     "render.pixel_filter.radius: must be > 0");
-  expect_error_with(R"("render": {"pixel_filter": {"type": "gaussian", "radius": @17}}, "objects": [])", "must be <= 16");
+  expect_error_with(R"("render": {"pixel_filter": {"type": "gaussian", "radius": @17}}, "objects": [])",
+                    "must be <= 16");
   expect_error_with(R"("render": {"pixel_filter": {"type": "mitchell", @"sigma": 1}}, "objects": [])",
                     "does not apply to the mitchell filter");
   expect_error_with(R"("render": {"pixel_filter": {"type": "mitchell", "c": @-0.1}}, "objects": [])",
@@ -805,15 +836,15 @@ TEST(SceneLoaderLimits, AllMeshesTogetherMustFitTheMemoryBudget) {
   } catch (const Error& e) {
     EXPECT_EQ(e.location().line, 4) << e.what();
     EXPECT_EQ(e.location().column, 28) << e.what();
-    EXPECT_EQ(e.message().rfind("objects[2].file: with this mesh the scene's 2 mesh files hold " +
-                                    std::to_string(scene.meshes[0].triangle_count() + scene.meshes[1].triangle_count()) +
-                                    " triangles: that needs ",
-                                0),
-              0u)
+    EXPECT_EQ(
+        e.message().rfind("objects[2].file: with this mesh the scene's 2 mesh files hold " +
+                              std::to_string(scene.meshes[0].triangle_count() + scene.meshes[1].triangle_count()) +
+                              " triangles: that needs ",
+                          0),
+        0u)
         << e.what();
   }
 }
 
 }  // namespace
 }  // namespace glint
-

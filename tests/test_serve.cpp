@@ -64,9 +64,9 @@ TEST(ServeRules, OriginMustBeOurOwnPage) {
   using glint::serve::origin_allowed;
   EXPECT_TRUE(origin_allowed("http://127.0.0.1:8123", "127.0.0.1:8123"));
   EXPECT_TRUE(origin_allowed("http://[::1]:8123", "[::1]:8123"));
-  for (const char* no : {"null", "", "http://127.0.0.1:8124", "https://127.0.0.1:8123", "http://evil.example",
-                         "http://127.0.0.1:8123/", "http://localhost:8123", "http://127.0.0.1:81234",
-                         "file://", "http://127.0.0.1:8123.evil.example"})
+  for (const char* no :
+       {"null", "", "http://127.0.0.1:8124", "https://127.0.0.1:8123", "http://evil.example", "http://127.0.0.1:8123/",
+        "http://localhost:8123", "http://127.0.0.1:81234", "file://", "http://127.0.0.1:8123.evil.example"})
     EXPECT_FALSE(origin_allowed(no, "127.0.0.1:8123")) << no;
 }
 
@@ -177,7 +177,8 @@ std::string http_request(const std::string& method, const std::string& target, c
   std::string r = method + " " + target + " HTTP/1.1\r\n";
   if (!host.empty()) r += "Host: " + host + "\r\n";
   r += extra_headers;
-  if (method == "POST") r += "Content-Type: " + content_type + "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n";
+  if (method == "POST")
+    r += "Content-Type: " + content_type + "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n";
   return r + "\r\n" + body;
 }
 
@@ -294,16 +295,18 @@ TEST_F(ServeServer, RefusesForeignHostsAndOrigins) {
   EXPECT_EQ(get("/api/state").status, 200);
   EXPECT_EQ(round_trip(port_, http_request("GET", "/", "localhost:" + port)).status, 200);
   EXPECT_EQ(round_trip(port_, http_request("GET", "/", "[::1]:" + port)).status, 200);  // an IPv6 literal
-  for (const std::string& host : {"evil.example:" + port, "127.0.0.1.nip.io:" + port, "127.0.0.1:" + std::to_string(port_ + 1),
-                                  std::string("127.0.0.1"), std::string(""), "[evil.example]:" + port})
+  for (const std::string& host :
+       {"evil.example:" + port, "127.0.0.1.nip.io:" + port, "127.0.0.1:" + std::to_string(port_ + 1),
+        std::string("127.0.0.1"), std::string(""), "[evil.example]:" + port})
     EXPECT_EQ(round_trip(port_, http_request("GET", "/api/state", host)).status, 403) << host;
   // HTTP/1.0 without a Host header.
   EXPECT_EQ(round_trip(port_, "GET /api/state HTTP/1.0\r\n\r\n").status, 403);
   // A page elsewhere may not drive it or make it save; our own page may.
   const Json before = state();
   const std::string edit = R"({"edits":[{"op":"set","path":"render.max_depth","value":1}]})";
-  for (const std::string& origin : {std::string("http://evil.example"), std::string("null"), "http://127.0.0.1:" + std::to_string(port_ + 1),
-                                    "https://" + host_, "http://localhost:" + port}) {
+  for (const std::string& origin :
+       {std::string("http://evil.example"), std::string("null"), "http://127.0.0.1:" + std::to_string(port_ + 1),
+        "https://" + host_, "http://localhost:" + port}) {
     EXPECT_EQ(post("/api/edit", edit, "Origin: " + origin + "\r\n").status, 403) << origin;
     EXPECT_EQ(post("/api/save", R"({"mode":"new"})", "Origin: " + origin + "\r\n").status, 403) << origin;
   }
@@ -328,21 +331,29 @@ TEST_F(ServeServer, RefusesForeignHostsOnIpv6) {
   }
   EXPECT_EQ(server_->url(), "http://[::1]:" + std::to_string(port_) + "/");
   EXPECT_EQ(round_trip(port_, http_request("GET", "/api/state", host_), true).status, 200);
-  EXPECT_EQ(round_trip(port_, http_request("GET", "/api/state", "[::1]:" + std::to_string(port_ + 1)), true).status, 403);
-  EXPECT_EQ(round_trip(port_, http_request("GET", "/api/state", "[::1]"), true).status, 403);
-  EXPECT_EQ(round_trip(port_, http_request("GET", "/api/state", "ip6-localhost:" + std::to_string(port_)), true).status, 403);
-  const std::string edit = R"({"edits":[{"op":"set","path":"render.max_depth","value":1}]})";
-  EXPECT_EQ(round_trip(port_, http_request("POST", "/api/edit", host_, edit, "Origin: http://127.0.0.1:" + std::to_string(port_) + "\r\n"), true).status,
+  EXPECT_EQ(round_trip(port_, http_request("GET", "/api/state", "[::1]:" + std::to_string(port_ + 1)), true).status,
             403);
-  EXPECT_EQ(round_trip(port_, http_request("POST", "/api/edit", host_, edit, "Origin: http://" + host_ + "\r\n"), true).status, 200);
+  EXPECT_EQ(round_trip(port_, http_request("GET", "/api/state", "[::1]"), true).status, 403);
+  EXPECT_EQ(round_trip(port_, http_request("GET", "/api/state", "ip6-localhost:" + std::to_string(port_)), true).status,
+            403);
+  const std::string edit = R"({"edits":[{"op":"set","path":"render.max_depth","value":1}]})";
+  EXPECT_EQ(round_trip(port_,
+                       http_request("POST", "/api/edit", host_, edit,
+                                    "Origin: http://127.0.0.1:" + std::to_string(port_) + "\r\n"),
+                       true)
+                .status,
+            403);
+  EXPECT_EQ(round_trip(port_, http_request("POST", "/api/edit", host_, edit, "Origin: http://" + host_ + "\r\n"), true)
+                .status,
+            200);
 }
 
 TEST_F(ServeServer, CapsRequestSizes) {
   start(scene_);
   const Json before = state();
   // One byte over 1 MiB: refused unread (413), the state as it was.
-  const std::string big = "{\"edits\":[{\"op\":\"set\",\"path\":\"render.max_depth\",\"value\":1}]," +
-                          std::string((1 << 20), ' ') + "}";
+  const std::string big =
+      "{\"edits\":[{\"op\":\"set\",\"path\":\"render.max_depth\",\"value\":1}]," + std::string((1 << 20), ' ') + "}";
   EXPECT_EQ(post("/api/edit", big).status, 413);
   // At the cap it is read (and this one is a good edit).
   const std::string edit = R"({"edits":[{"op":"set","path":"render.max_depth","value":2}]})";
@@ -359,7 +370,9 @@ TEST_F(ServeServer, CapsRequestSizes) {
   const int status = round_trip(port_, chunked).status;
   EXPECT_TRUE(status == 413 || status == 400 || status == 0) << status;
   // Headers past httplib's limit (8 KiB a line): refused, never served.
-  const int long_header = round_trip(port_, http_request("GET", "/api/state", host_, "", "X-Long: " + std::string(20000, 'x') + "\r\n")).status;
+  const int long_header =
+      round_trip(port_, http_request("GET", "/api/state", host_, "", "X-Long: " + std::string(20000, 'x') + "\r\n"))
+          .status;
   EXPECT_NE(long_header, 200);
   // A URI past its limit.
   EXPECT_NE(get("/frame/1.png?" + std::string(20000, 'x')).status, 200);
@@ -372,8 +385,9 @@ TEST_F(ServeServer, CapsRequestSizes) {
 TEST_F(ServeServer, SaveAsNewNeverWritesWhereTheRequestSays) {
   start(scene_);
   ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"set","path":"materials.red.shininess","value":7}]})").status, 200);
-  const std::string outside = (dir_.parent_path() / ("glint-serve-evil-" + std::to_string(::getpid()) + ".json")).string();
-  const Json asks = {{"mode", "new"},     {"path", outside}, {"name", "../evil.json"},
+  const std::string outside =
+      (dir_.parent_path() / ("glint-serve-evil-" + std::to_string(::getpid()) + ".json")).string();
+  const Json asks = {{"mode", "new"},         {"path", outside},   {"name", "../evil.json"},
                      {"file", "/tmp/x.json"}, {"target", outside}, {"filename", "evil.json"}};
   Reply r = post("/api/save", asks.dump());
   ASSERT_EQ(r.status, 200) << r.body;
@@ -432,7 +446,8 @@ TEST_F(ServeServer, BadRequestsChangeNothing) {
        R"({"edits":[{"op":"set","path":"render.max_depth","value":2},{"op":"set","path":"materials.red.ior","value":"glass"}]})",
        "materials.red.ior"},
       {"/api/edit", R"({"edits":[{"op":"set","path":"render.width","value":1e300}]})", "render.width"},
-      {"/api/edit", R"({"edits":[{"op":"set","path":"materials.red.diffuse","value":[1,2]}]})", "materials.red.diffuse"},
+      {"/api/edit", R"({"edits":[{"op":"set","path":"materials.red.diffuse","value":[1,2]}]})",
+       "materials.red.diffuse"},
       {"/api/edit", R"({"edits":[{"op":"set","path":"lights[0].type","value":"laser"}]})", "lights[0].type"},
       {"/api/edit", R"({"edits":[{"op":"set","path":"objects[0].file","value":"/etc/passwd"}]})", "objects[0]"},
       {"/api/edit", R"({"edits":[{"op":"erase","path":"materials.red"}]})", "red"},
@@ -465,7 +480,8 @@ TEST_F(ServeServer, BadRequestsChangeNothing) {
     EXPECT_EQ(r.status, 400) << b.target << " " << b.body;
     const Json answer = Json::parse(r.body, nullptr, false);
     ASSERT_TRUE(answer.is_object() && answer.contains("error")) << r.body;
-    EXPECT_NE(answer["error"].get<std::string>().find(b.message), std::string::npos) << answer["error"] << " for " << b.body;
+    EXPECT_NE(answer["error"].get<std::string>().find(b.message), std::string::npos)
+        << answer["error"] << " for " << b.body;
     EXPECT_EQ(essence(state()), essence(before)) << b.body;
   }
   std::stringstream file_after;
@@ -487,7 +503,8 @@ TEST_F(ServeServer, ATabThatGoesAwayMidStreamCostsNothing) {
     // A full frame that takes long (400 x 225 at 256 samples): the tab goes
     // away while it renders.
     ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"set","path":"render.width","value":400},
-      {"op":"set","path":"render.height","value":225},{"op":"set","path":"render.samples_per_pixel","value":256}]})").status,
+      {"op":"set","path":"render.height","value":225},{"op":"set","path":"render.samples_per_pixel","value":256}]})")
+                  .status,
               200);
     const uint64_t version = server.stats().scene_version;
     ASSERT_TRUE(wait([&](const ServerStats& s) { return s.rendering && s.renders > renders_before; }));
@@ -501,7 +518,8 @@ TEST_F(ServeServer, ATabThatGoesAwayMidStreamCostsNothing) {
     // Nobody watching: edits are taken, nothing is rendered.
     const uint64_t renders = server.stats().renders;
     ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"set","path":"render.width","value":48},
-      {"op":"set","path":"render.height","value":27},{"op":"set","path":"render.samples_per_pixel","value":1}]})").status,
+      {"op":"set","path":"render.height","value":27},{"op":"set","path":"render.samples_per_pixel","value":1}]})")
+                  .status,
               200);
     EXPECT_EQ(server.stats().renders, renders);
     // A tab again: the newest scene is rendered for it.
@@ -538,7 +556,8 @@ TEST_F(ServeServer, TabsBeyondTheLimitAreRefusedUntilOneCloses) {
 std::pair<int, int> png_size(const std::string& png) {
   if (png.size() < 24 || png.compare(1, 3, "PNG") != 0) return {0, 0};
   auto be32 = [&](size_t at) {
-    return static_cast<int>((static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
+    return static_cast<int>((static_cast<unsigned char>(png[at]) << 24) |
+                            (static_cast<unsigned char>(png[at + 1]) << 16) |
                             (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]));
   };
   return {be32(16), be32(20)};
@@ -592,12 +611,15 @@ TEST_F(ServeServer, ANewerEditCancelsTheRenderInFlight) {
   const uint64_t renders = server.stats().renders, full_frames = server.stats().full_frames;
   // A frame that takes long (400 x 225 at 256 samples)...
   ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"set","path":"render.width","value":400},
-    {"op":"set","path":"render.height","value":225},{"op":"set","path":"render.samples_per_pixel","value":256}]})").status,
+    {"op":"set","path":"render.height","value":225},{"op":"set","path":"render.samples_per_pixel","value":256}]})")
+                .status,
             200);
   ASSERT_TRUE(wait([&](const ServerStats& s) { return s.rendering && s.renders > renders; }));
   // ...and, while it renders, the next edit: that frame is never finished.
   ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"set","path":"render.samples_per_pixel","value":1},
-    {"op":"set","path":"render.width","value":40}]})").status, 200);
+    {"op":"set","path":"render.width","value":40}]})")
+                .status,
+            200);
   const uint64_t version = server.stats().scene_version;
   ASSERT_TRUE(wait([&](const ServerStats& s) { return s.full_frames > full_frames && !s.rendering; }));
   EXPECT_EQ(server.stats().full_frames, full_frames + 1);
@@ -620,8 +642,8 @@ bool blocked_for_good(const std::string& syscall_line) {
   if (args.size() < 6) return false;  // "running", or not in a system call
   const auto infinite_ms = [](unsigned long long v) { return static_cast<int>(v & 0xffffffffu) < 0; };
   switch (number) {
-    case SYS_futex: return args[3] == 0;           // no timeout
-    case SYS_poll: return infinite_ms(args[2]);    // timeout -1
+    case SYS_futex: return args[3] == 0;         // no timeout
+    case SYS_poll: return infinite_ms(args[2]);  // timeout -1
     case SYS_ppoll: return args[2] == 0;
     case SYS_epoll_wait:
     case SYS_epoll_pwait: return infinite_ms(args[3]);
@@ -690,11 +712,12 @@ TEST_F(ServeServer, EditsReadNoFileAndTheWatcherReadsAChangedOne) {
   ASSERT_TRUE(tab.read_until("event: frame"));
   EXPECT_EQ(server.stats().file_reads, 1u);
   // Materials, lights, camera, settings: no file is read again.
-  for (const char* edit : {R"({"op":"set","path":"materials.red.shininess","value":5})",
-                           R"({"op":"set","path":"lights[1].position","value":[1,5,2]})",
-                           R"({"op":"set","path":"camera.fov_y","value":35})",
-                           R"({"op":"set","path":"render.max_depth","value":2})",
-                           R"({"op":"append","path":"objects","value":{"type":"mesh","file":"tri.obj","transform":{"translate":[1,0,0]}}})"})
+  for (
+      const char* edit :
+      {R"({"op":"set","path":"materials.red.shininess","value":5})",
+       R"({"op":"set","path":"lights[1].position","value":[1,5,2]})",
+       R"({"op":"set","path":"camera.fov_y","value":35})", R"({"op":"set","path":"render.max_depth","value":2})",
+       R"({"op":"append","path":"objects","value":{"type":"mesh","file":"tri.obj","transform":{"translate":[1,0,0]}}})"})
     ASSERT_EQ(post("/api/edit", std::string("{\"edits\":[") + edit + "]}").status, 200) << edit;
   ASSERT_TRUE(settled());
   EXPECT_EQ(server.stats().file_reads, 1u);
@@ -726,7 +749,9 @@ TEST_F(ServeServer, EditsReadNoFileAndTheWatcherReadsAChangedOne) {
   EXPECT_EQ(server.stats().builds, 3);
   // Without the meshes and back (undo): the file's own scene names the mesh,
   // so it stayed in the cache.
-  ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"erase","path":"objects[3]"},{"op":"erase","path":"objects[2]"}]})").status, 200);
+  ASSERT_EQ(
+      post("/api/edit", R"({"edits":[{"op":"erase","path":"objects[3]"},{"op":"erase","path":"objects[2]"}]})").status,
+      200);
   ASSERT_EQ(post("/api/undo", "{}").status, 200);
   EXPECT_EQ(server.stats().file_reads, 3u);
 }

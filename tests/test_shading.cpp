@@ -111,8 +111,8 @@ TEST_P(Formula, EachTermAndTheirSum) {
     const Image image = render_image(s.scene, *accel);
     for (const auto& px : kPixels) {
       const float* got = image.pixel(px[0], px[1]);
-      const Color want = s.expected(px[0], px[1], term == 0 || term == 3, term == 1 || term == 3,
-                                    term == 2 || term == 3);
+      const Color want =
+          s.expected(px[0], px[1], term == 0 || term == 3, term == 1 || term == 3, term == 2 || term == 3);
       expect_color({got[0], got[1], got[2]}, want, ("term " + std::to_string(term)).c_str());
     }
   }
@@ -134,12 +134,20 @@ TEST(Formula, SpecularHighlightIsBrightestWhereTheFormulaSaysSo) {
   int want_x = 0, want_y = 0;
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x) {
-      if (image.pixel(x, y)[0] > best) { best = image.pixel(x, y)[0]; best_x = x; best_y = y; }
+      if (image.pixel(x, y)[0] > best) {
+        best = image.pixel(x, y)[0];
+        best_x = x;
+        best_y = y;
+      }
       const Vec3 d = contract_ray_dir(s.scene.camera, 40, 30, x, y);
       const Vec3 oc = s.scene.camera.position;
       if (dot(oc, d) * dot(oc, d) - (dot(oc, oc) - 1) < 0) continue;
       const double e = s.expected(x, y, false, false, true).x;
-      if (e > best_expected) { best_expected = e; want_x = x; want_y = y; }
+      if (e > best_expected) {
+        best_expected = e;
+        want_x = x;
+        want_y = y;
+      }
     }
   EXPECT_EQ(best_x, want_x);
   EXPECT_EQ(best_y, want_y);

@@ -8,9 +8,9 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <limits>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -182,8 +182,10 @@ TEST(TextureFile, NonFiniteOrNegativeTexelsAreErrors) {
     }
   };
   const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
-  expect_texel_error("nan.pfm", {0, 0, 0, 0, 0, 0, 0, nan, 0, 0, 0, 0}, "texel (0, 1) from the top-left is not a finite number");
-  expect_texel_error("inf.exr", {0, 0, 0, 0, 0, inf, 0, 0, 0, 0, 0, 0}, "texel (1, 0) from the top-left is not a finite number");
+  expect_texel_error("nan.pfm", {0, 0, 0, 0, 0, 0, 0, nan, 0, 0, 0, 0},
+                     "texel (0, 1) from the top-left is not a finite number");
+  expect_texel_error("inf.exr", {0, 0, 0, 0, 0, inf, 0, 0, 0, 0, 0, 0},
+                     "texel (1, 0) from the top-left is not a finite number");
   expect_texel_error("neg.exr", {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, -0.5f, 0},
                      "texel (1, 1) from the top-left is negative (a reflectance must be >= 0)");
 }
@@ -198,15 +200,15 @@ TEST(TextureLookup, TexelCentersAndBilinearMidpoints) {
   EXPECT_NEAR(at(0.75, 0.75), 1, kTol);  // top right
   EXPECT_NEAR(at(0.25, 0.25), 2, kTol);  // bottom left (v grows upward)
   EXPECT_NEAR(at(0.75, 0.25), 4, kTol);
-  EXPECT_NEAR(at(0.5, 0.75), 0.5, kTol);             // between the top two
-  EXPECT_NEAR(at(0.25, 0.5), 1.0, kTol);             // between the left two
+  EXPECT_NEAR(at(0.5, 0.75), 0.5, kTol);                   // between the top two
+  EXPECT_NEAR(at(0.25, 0.5), 1.0, kTol);                   // between the left two
   EXPECT_NEAR(at(0.5, 0.5), (0 + 1 + 2 + 4) / 4.0, kTol);  // all four
-  EXPECT_NEAR(at(0.375, 0.75), 0.25, kTol);          // a quarter of the way
+  EXPECT_NEAR(at(0.375, 0.75), 0.25, kTol);                // a quarter of the way
 }
 
 TEST(TextureLookup, WrapTexelIndices) {
   const int n = 4;
-  const int repeat[] = {2, 3, 0, 1, 2, 3, 0, 1, 2, 3};   // i = -2 .. 7
+  const int repeat[] = {2, 3, 0, 1, 2, 3, 0, 1, 2, 3};  // i = -2 .. 7
   const int clamp[] = {0, 0, 0, 1, 2, 3, 3, 3, 3, 3};
   const int mirror[] = {1, 0, 0, 1, 2, 3, 3, 2, 1, 0};
   for (int i = -2; i <= 7; ++i) {
@@ -263,10 +265,10 @@ TEST(TextureLookup, Checker) {
   expect_color(evaluate_texture(scene, t, {0.75, 0.25}), t.odd);
   expect_color(evaluate_texture(scene, t, {0.25, 0.75}), t.odd);
   expect_color(evaluate_texture(scene, t, {0.75, 0.75}), t.even);
-  expect_color(evaluate_texture(scene, t, {-0.25, 0.25}), t.odd);   // floor(-0.5) = -1
+  expect_color(evaluate_texture(scene, t, {-0.25, 0.25}), t.odd);  // floor(-0.5) = -1
   expect_color(evaluate_texture(scene, t, {-0.25, -0.25}), t.even);
-  expect_color(evaluate_texture(scene, t, {10.75, 3.25}), t.odd);   // 21 + 6
-  t.offset_u = 0.5;  // shifts by one cell
+  expect_color(evaluate_texture(scene, t, {10.75, 3.25}), t.odd);  // 21 + 6
+  t.offset_u = 0.5;                                                // shifts by one cell
   expect_color(evaluate_texture(scene, t, {0.25, 0.25}), t.odd);
 }
 
@@ -291,9 +293,9 @@ TEST(TextureUV, Sphere) {
 
 TEST(TextureUV, PlaneFrames) {
   Scene scene;
-  add_plane(scene, {{1, 0, 2}, {0, 1, 0}});    // floor
-  add_plane(scene, {{0, 0, -5}, {0, 0, 1}});   // wall facing +z
-  add_plane(scene, {{3, 0, 0}, {1, 0, 0}});    // wall facing +x
+  add_plane(scene, {{1, 0, 2}, {0, 1, 0}});   // floor
+  add_plane(scene, {{0, 0, -5}, {0, 0, 1}});  // wall facing +z
+  add_plane(scene, {{3, 0, 0}, {1, 0, 0}});   // wall facing +x
   Hit hit;
   hit.object = 0;
   UV uv = surface_uv(scene, hit, {3, 0, -1});
@@ -567,9 +569,9 @@ TEST(TextureLoader, ErrorsWithPositions) {
   TempDir dir;
   dir.png("a.png", 1, 1, {1, 2, 3});
   dir.write("broken.png", "garbage");
-  expect_texture_error(dir, R"({"m": {"diffuse": {"texture": @"nope.png"}}})",
-                       "materials.m.diffuse.texture: texture file \"" + (dir.path() / "nope.png").string() +
-                           "\" not found");
+  expect_texture_error(
+      dir, R"({"m": {"diffuse": {"texture": @"nope.png"}}})",
+      "materials.m.diffuse.texture: texture file \"" + (dir.path() / "nope.png").string() + "\" not found");
   expect_texture_error(dir, R"({"m": {"diffuse": {"texture": @"broken.png"}}})", "cannot read texture");
   expect_texture_error(dir, R"({"m": {"diffuse": {"texture": @""}}})", "must name a texture file");
   expect_texture_error(dir, R"({"m": {"diffuse": {"texture": "a.png", "wrap": @"repaet"}}})",
@@ -577,8 +579,7 @@ TEST(TextureLoader, ErrorsWithPositions) {
   expect_texture_error(dir, R"({"m": {"diffuse": {"texture": "a.png", @"wrapp": "clamp"}}})",
                        "unknown key \"wrapp\" (did you mean \"wrap\"?)");
   expect_texture_error(dir, R"({"m": {"diffuse": {"texture": "a.png", "scale": @0}}})", "must not be zero");
-  expect_texture_error(dir, R"({"m": {"diffuse": {"texture": "a.png", "scale": @[1, 2, 3]}}})",
-                       "expected [u, v]");
+  expect_texture_error(dir, R"({"m": {"diffuse": {"texture": "a.png", "scale": @[1, 2, 3]}}})", "expected [u, v]");
   expect_texture_error(dir, R"({"m": {"diffuse": {"texture": "a.png", "offset": [1, @"x"]}}})",
                        "materials.m.diffuse.offset[1]: expected a number");
   expect_texture_error(dir, R"({"m": {"specular": @{"wrap": "clamp"}}})", "needs \"texture\"");
@@ -592,7 +593,8 @@ TEST(TextureLoader, ErrorsWithPositions) {
 }
 
 TEST(TextureLoader, TriangleUVErrors) {
-  const std::string head = std::string("{") + kCamera + ",\n\"objects\": [{\"type\": \"triangle\", "
+  const std::string head = std::string("{") + kCamera +
+                           ",\n\"objects\": [{\"type\": \"triangle\", "
                            "\"vertices\": [[0,0,0],[1,0,0],[0,1,0]], \"uv\": ";
   try {
     parse_scene(head + "[[0,0],[1,0]]}]}", "s.json");
@@ -674,12 +676,12 @@ TEST(TextureRender, ConstantTexturesRenderLikeTheirColor) {
     "objects": [{"type": "sphere", "center": [0, 0.5, 0], "radius": 1, "material": "m"},
                 {"type": "box", "min": [-3, -1, -3], "max": [3, -0.5, 3], "material": "m"}],
     "materials": {"m": {"reflectivity": 0.2, "shininess": 20, )";
-  const Scene plain = parse_scene(head + R"("ambient": [0.2, 0.1, 0], "diffuse": [0.3, 0.6, 0.9], "specular": 0.5}}})", "p.json");
-  const Scene textured = parse_scene(
-      head + R"("ambient": {"checker": {"even": [0.2, 0.1, 0], "odd": [0.2, 0.1, 0]}},
+  const Scene plain =
+      parse_scene(head + R"("ambient": [0.2, 0.1, 0], "diffuse": [0.3, 0.6, 0.9], "specular": 0.5}}})", "p.json");
+  const Scene textured = parse_scene(head + R"("ambient": {"checker": {"even": [0.2, 0.1, 0], "odd": [0.2, 0.1, 0]}},
                 "diffuse": {"checker": {"even": [0.3, 0.6, 0.9], "odd": [0.3, 0.6, 0.9], "scale": 3}},
                 "specular": {"checker": {"even": 0.5, "odd": 0.5}}}}})",
-      "t.json");
+                                     "t.json");
   ASSERT_TRUE(textured.materials[1].textured());
   const Image a = render_image(plain, *build_accelerator(plain));
   const Image b = render_image(textured, *build_accelerator(textured));

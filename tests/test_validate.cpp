@@ -32,10 +32,13 @@ const char* kBrokenEverywhere = R"({"camera": {"position": [0,0,5], "look_at": [
 TEST(Validate, ListsEveryErrorInFileOrder) {
   const auto errors = validate_scene(write_temp("broken.json", kBrokenEverywhere));
   ASSERT_EQ(errors.size(), 8u);
-  const char* expected[] = {"camera.look_at: must differ", "materials.a.shininess: must be > 0",
+  const char* expected[] = {"camera.look_at: must differ",
+                            "materials.a.shininess: must be > 0",
                             "materials.b: unknown key \"difuse\" (did you mean \"diffuse\"?)",
-                            "lights[0]: missing required key \"position\"", "lights[1].direction: must be a non-zero",
-                            "objects[0].radius: must be > 0", "objects[1].material: unknown material \"zz\"",
+                            "lights[0]: missing required key \"position\"",
+                            "lights[1].direction: must be a non-zero",
+                            "objects[0].radius: must be > 0",
+                            "objects[1].material: unknown material \"zz\"",
                             "objects[2].type: unknown object type \"torus\""};
   int last_line = 0;
   for (size_t i = 0; i < errors.size(); ++i) {

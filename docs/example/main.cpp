@@ -2,8 +2,8 @@
 // (include/glint/): a scene from JSON text, an edit checked by the loader's
 // rules, a render, a second render after a material edit that reuses the
 // acceleration structure, and the images written.
-#include <cstdio>
 #include <glint/glint.h>
+#include <cstdio>
 
 int main(int argc, char** argv) {
   const char* output = argc > 1 ? argv[1] : "example.png";

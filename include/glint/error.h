@@ -16,12 +16,9 @@ struct SourceLocation {
 
 class Error : public std::runtime_error {
  public:
-  explicit Error(std::string message)
-      : std::runtime_error(message), message_(std::move(message)) {}
+  explicit Error(std::string message) : std::runtime_error(message), message_(std::move(message)) {}
   Error(SourceLocation location, std::string message)
-      : std::runtime_error(format(location, message)),
-        location_(std::move(location)),
-        message_(std::move(message)) {}
+      : std::runtime_error(format(location, message)), location_(std::move(location)), message_(std::move(message)) {}
   // A problem at a value of the scene document: message() is "path: what",
   // as the loader has always written it, and path() the path alone
   // ("materials.floor.shininess"), so a binding can name it without parsing.

@@ -55,11 +55,11 @@ struct FramesOptions {
 struct FrameReport {
   int frame = 0;
   std::filesystem::path output;
-  bool skipped = false;   // skip_existing: it was already done
-  bool resumed = false;   // finished from its resume file
-  bool complete = true;   // false: cancelled (partial image and resume file written)
+  bool skipped = false;  // skip_existing: it was already done
+  bool resumed = false;  // finished from its resume file
+  bool complete = true;  // false: cancelled (partial image and resume file written)
   size_t tiles_done = 0, tiles_total = 0;
-  RenderStats stats;      // of this call's work on the frame
+  RenderStats stats;  // of this call's work on the frame
 };
 
 // Renders the frames of `options` into their files, in order, calling

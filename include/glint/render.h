@@ -47,8 +47,8 @@ void write_image(const Image& image, const std::filesystem::path& path, const Wr
 // ("normal", "depth", ...), `image` is that pass and the bytes are those of
 // the file `glint render --passes` writes for it (8-bit normals and depths
 // are remapped as data, docs/cli.md). Throws glint::Error.
-std::vector<unsigned char> encode_image(const Image& image, std::string_view format,
-                                        const WriteOptions& options = {}, std::string_view pass = {});
+std::vector<unsigned char> encode_image(const Image& image, std::string_view format, const WriteOptions& options = {},
+                                        std::string_view pass = {});
 // Any of those formats, as linear floats (8-bit ones sRGB-decoded).
 Image read_image(const std::filesystem::path& path);
 

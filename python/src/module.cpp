@@ -11,11 +11,11 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <glint/glint.h>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <exception>
-#include <glint/glint.h>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -170,9 +170,9 @@ void read_float_rows(const py::array& a, py::ssize_t k, const char* name, std::v
       const T x = r(i, c);
       const float f = static_cast<float>(x);
       if (!std::isfinite(f))
-        throw py::value_error(std::string(name) + "[" + std::to_string(i) + "]: " +
-                              (std::isfinite(static_cast<double>(x)) ? "does not fit in a 32-bit float"
-                                                                     : "not a finite number"));
+        throw py::value_error(
+            std::string(name) + "[" + std::to_string(i) +
+            "]: " + (std::isfinite(static_cast<double>(x)) ? "does not fit in a 32-bit float" : "not a finite number"));
       *o++ = f;
     }
 }
@@ -220,7 +220,8 @@ void read_indices(const py::array& a, size_t vertices, std::vector<uint32_t>& ou
 std::vector<uint32_t> index_rows(const py::object& value, size_t vertices) {
   py::array t = array_of(value, "triangles", "a numpy array of integers");
   if (t.dtype().kind() != 'i' && t.dtype().kind() != 'u')
-    throw py::type_error("triangles: expected int32 or int64 indices, got dtype " + py::str(t.dtype()).cast<std::string>());
+    throw py::type_error("triangles: expected int32 or int64 indices, got dtype " +
+                         py::str(t.dtype()).cast<std::string>());
   if (t.ndim() != 2 || t.shape(1) != 3 || t.shape(0) == 0)
     throw py::value_error("triangles: expected shape (m, 3) with m > 0, got " + shape_text(t));
   std::vector<uint32_t> out;
@@ -303,8 +304,8 @@ PYBIND11_MODULE(_glint, m) {
       .def("erase", &Scene::erase, py::arg("path"))
       .def("append_json", &Scene::append_json, py::arg("path"), py::arg("json"))
       .def("update_json", &Scene::update_json, py::arg("path"), py::arg("json"))
-      .def("add_mesh", &add_mesh, py::arg("object_json"), py::arg("vertices"), py::arg("triangles"),
-           py::arg("normals"), py::arg("uvs"))
+      .def("add_mesh", &add_mesh, py::arg("object_json"), py::arg("vertices"), py::arg("triangles"), py::arg("normals"),
+           py::arg("uvs"))
       .def_property_readonly("warnings", &Scene::warnings)
       .def_property_readonly("width", &Scene::width)
       .def_property_readonly("height", &Scene::height)
@@ -378,6 +379,5 @@ PYBIND11_MODULE(_glint, m) {
       },
       py::arg("image"), py::arg("path"), py::arg("exposure") = 0.0, py::arg("tonemap") = "clamp");
   m.def(
-      "read_image",
-      [](const std::string& path) { return image_array(glint::api::read_image(path)); }, py::arg("path"));
+      "read_image", [](const std::string& path) { return image_array(glint::api::read_image(path)); }, py::arg("path"));
 }

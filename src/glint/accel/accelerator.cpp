@@ -96,8 +96,8 @@ inline bool intersect_shape(const Scene& scene, const Object& object, uint32_t i
       }
       return false;
     case ShapeType::mesh:
-      return intersect_mesh(scene.meshes[object.shape], mesh_bvhs ? &(*mesh_bvhs)[object.shape] : nullptr, index,
-                            ray, hit);
+      return intersect_mesh(scene.meshes[object.shape], mesh_bvhs ? &(*mesh_bvhs)[object.shape] : nullptr, index, ray,
+                            hit);
     case ShapeType::cylinder:
     case ShapeType::cone:
       if (auto h = intersect_cone(scene.cones[object.shape], ray)) {
@@ -209,9 +209,9 @@ struct alignas(32) TriangleLeaf {
       const __m256d c = predicate_lt ? _mm256_cmp_pd(e2, zero, _CMP_LT_OQ) : _mm256_cmp_pd(e2, zero, _CMP_GT_OQ);
       return _mm256_movemask_pd(_mm256_or_pd(_mm256_or_pd(a, b), c));
     };
-    const int zeros = _mm256_movemask_pd(_mm256_or_pd(
-        _mm256_or_pd(_mm256_cmp_pd(e0, zero, _CMP_EQ_OQ), _mm256_cmp_pd(e1, zero, _CMP_EQ_OQ)),
-        _mm256_cmp_pd(e2, zero, _CMP_EQ_OQ)));
+    const int zeros = _mm256_movemask_pd(
+        _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(e0, zero, _CMP_EQ_OQ), _mm256_cmp_pd(e1, zero, _CMP_EQ_OQ)),
+                     _mm256_cmp_pd(e2, zero, _CMP_EQ_OQ)));
     const int outside = any(1) & any(0) & ~zeros;
     return ~outside;
   }
@@ -244,10 +244,8 @@ class BvhAccelerator final : public Accelerator {
     for (const Mesh& mesh : scene.meshes) mesh_bvhs_.push_back(build_mesh_bvh(mesh, build_options));
     std::vector<Bounds3> bounds(scene.objects.size());
     for (uint32_t i = 0; i < scene.objects.size(); ++i) {
-      if (scene.objects[i].type == ShapeType::plane)
-        planes_.push_back(i);
-      else
-        bounds[i] = object_bounds(scene, i);
+      if (scene.objects[i].type == ShapeType::plane) planes_.push_back(i);
+      else bounds[i] = object_bounds(scene, i);
     }
     bvh_ = build_bvh(bounds, build_options, scene.camera.position);
     slots_.reserve(bvh_.primitives.size());
@@ -315,7 +313,8 @@ class BvhAccelerator final : public Accelerator {
         bool hit = false;
         if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
           for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-            const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
+            const uint32_t object =
+                slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
             if (intersect_object(scene_, object, r, best, &mesh_bvhs_)) {
               r.t_max = best.t;
               hit = true;
@@ -397,8 +396,7 @@ class BvhAccelerator final : public Accelerator {
   bool occluded_cached(const Ray& ray, uint32_t& cache) const override {
     // Any blocker answers an any-hit query, so the cached one, when it
     // blocks, gives the same answer as the traversal.
-    if (cache != kNoShadowBlocker && cache < scene_.objects.size() &&
-        occludes_object(scene_, cache, ray, &mesh_bvhs_))
+    if (cache != kNoShadowBlocker && cache < scene_.objects.size() && occludes_object(scene_, cache, ray, &mesh_bvhs_))
       return true;
     const std::optional<uint32_t> blocker = first_blocker(ray);
     if (blocker) cache = *blocker;
@@ -410,12 +408,13 @@ class BvhAccelerator final : public Accelerator {
       if (occludes_object(scene_, p, ray)) return p;
     if (single_mesh_ != kNone)
       return occludes_object(scene_, single_mesh_, ray, &mesh_bvhs_) ? std::optional<uint32_t>(single_mesh_)
-                                                                      : std::nullopt;
+                                                                     : std::nullopt;
     std::optional<uint32_t> blocker;
     traverse_any_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, const Ray& r) {
       if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
         for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-          const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
+          const uint32_t object =
+              slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
           if (occludes_object(scene_, object, r, &mesh_bvhs_)) {
             blocker = object;
             return true;

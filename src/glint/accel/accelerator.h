@@ -69,8 +69,7 @@ struct AcceleratorOptions {
 
 // Our SAH BVH over every finite object (or Embree's, per options.backend);
 // infinite planes are tested apart.
-std::unique_ptr<Accelerator> build_accelerator(const Scene& scene,
-                                               const AcceleratorOptions& options = {});
+std::unique_ptr<Accelerator> build_accelerator(const Scene& scene, const AcceleratorOptions& options = {});
 
 // True when this build of glint has the Embree backend.
 bool embree_available();

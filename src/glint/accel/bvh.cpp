@@ -22,8 +22,16 @@ struct Box4f {
     hi = _mm_max_ps(hi, h);
   }
   void extend(const Box4f& b) { extend(b.lo, b.hi); }
-  float axis_lo(int a) const { alignas(16) float v[4]; _mm_store_ps(v, lo); return v[a]; }
-  float axis_hi(int a) const { alignas(16) float v[4]; _mm_store_ps(v, hi); return v[a]; }
+  float axis_lo(int a) const {
+    alignas(16) float v[4];
+    _mm_store_ps(v, lo);
+    return v[a];
+  }
+  float axis_hi(int a) const {
+    alignas(16) float v[4];
+    _mm_store_ps(v, hi);
+    return v[a];
+  }
   // Half the surface area (what SAH compares); an empty box gives infinity.
   float half_area() const {
     const __m128 d = _mm_sub_ps(hi, lo);
@@ -120,10 +128,9 @@ class Builder {
     if (depth >= kMaxDepth) {
       // Degenerate distribution: an object-median split bounds the depth.
       mid = begin + count / 2;
-      std::nth_element(refs_.begin() + begin, refs_.begin() + mid, refs_.begin() + end,
-                       [axis](const PrimRef& a, const PrimRef& b) {
-                         return a.lo[axis] + a.hi[axis] < b.lo[axis] + b.hi[axis];
-                       });
+      std::nth_element(
+          refs_.begin() + begin, refs_.begin() + mid, refs_.begin() + end,
+          [axis](const PrimRef& a, const PrimRef& b) { return a.lo[axis] + a.hi[axis] < b.lo[axis] + b.hi[axis]; });
       return make_interior(index, begin, mid, end, depth);
     }
 
@@ -185,7 +192,9 @@ class Builder {
     // (which hold exactly the primitives each side gets), their centroid
     // boxes from the partition, so they need no pass of their own.
     const float lo = c_lo[best_axis], sc = scale[best_axis];
-    auto is_left = [&](const PrimRef& r) { return bin_of(r.lo[best_axis] + r.hi[best_axis], lo, sc, bins) <= best_split; };
+    auto is_left = [&](const PrimRef& r) {
+      return bin_of(r.lo[best_axis] + r.hi[best_axis], lo, sc, bins) <= best_split;
+    };
     NodeBoxes left, right;
     for (int b = 0; b < bins; ++b) (b <= best_split ? left : right).bounds.extend(bin_bounds[best_axis][b]);
     size_t i = begin, j = end;
@@ -223,9 +232,7 @@ class Builder {
 
   // Block sizes are powers of two (build_bvh rounds up): a shift, not a
   // division, in the SAH sweep's inner loop (divisions were 6% of a build).
-  double blocks(size_t n) const {
-    return static_cast<double>((n + (size_t{1} << block_shift_) - 1) >> block_shift_);
-  }
+  double blocks(size_t n) const { return static_cast<double>((n + (size_t{1} << block_shift_) - 1) >> block_shift_); }
 
   uint32_t make_leaf(uint32_t index, size_t begin, size_t end) {
     BinaryNode& n = out_.nodes[index];
@@ -370,15 +377,16 @@ Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, c
   tree.nodes.reserve(2 * refs.size());
   tree.primitives.reserve(refs.size());
   // 2^d subtrees for d levels of threads: a few per core balances uneven splits.
-  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads =
+      options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   int parallel_depth = 0;
   while (threads > 1 && (1 << parallel_depth) < 4 * threads && parallel_depth < 8) ++parallel_depth;
   Builder(refs, options, tree, parallel_depth).build(0, refs.size(), 0);
   refs = {};
   // Rays are tested in float: pad boxes by more than the float rounding of
   // coordinates as large as the scene's (and the camera's) farthest point.
-  const double extent = std::max({max_abs_component(scene.lo), max_abs_component(scene.hi),
-                                  max_abs_component(origin_hint), 1e-30});
+  const double extent =
+      std::max({max_abs_component(scene.lo), max_abs_component(scene.hi), max_abs_component(origin_hint), 1e-30});
   const double pad = extent * 0x1p-20;
   bvh.nodes.reserve(tree.nodes.size() / 2 + 1);
   Collapser(tree, pad, bvh).collapse(0);

@@ -1,8 +1,7 @@
 // Bvh: our bounding volume hierarchy. Built by binned SAH as a binary tree,
 // then collapsed into wide nodes whose child boxes are tested at once: 8-wide
-// with AVX where the compiler may use it, else 4-wide with SSE. Leaves are ranges of a reordered primitive-index array. It knows
-// only boxes: callers pass the per-primitive test, so one traversal serves
-// spheres, boxes and triangles alike.
+// with AVX where the compiler may use it, else 4-wide with SSE. Leaves are ranges of a reordered primitive-index array.
+// It knows only boxes: callers pass the per-primitive test, so one traversal serves spheres, boxes and triangles alike.
 #pragma once
 
 #include <immintrin.h>
@@ -89,7 +88,7 @@ struct BvhBuildOptions {
 };
 
 struct Bvh {
-  HugePageVector<BvhNode> nodes;    // nodes[0] is the root
+  HugePageVector<BvhNode> nodes;     // nodes[0] is the root
   std::vector<uint32_t> primitives;  // leaf ranges index this; values are caller's ids
   bool empty() const { return nodes.empty(); }
 };
@@ -178,9 +177,7 @@ inline int hit_children(const BvhNode& n, const RaySlabs& r, FloatLanes t_min, f
 // wide tree is at most 60 deep too.
 inline constexpr int kTraversalStack = (kBvhWidth - 1) * 64;
 
-inline float clamp_to_float(double t) {
-  return t >= 3.0e38 ? INFINITY : static_cast<float>(t);
-}
+inline float clamp_to_float(double t) { return t >= 3.0e38 ? INFINITY : static_cast<float>(t); }
 
 // std::nextafter(x, 0.0f) without the library call: one step toward zero
 // (+inf gives the largest float; zero and NaN stay).
@@ -201,7 +198,10 @@ struct NoPrefetch {
 // traverse_closest_leaves for one form of the slab distances (RaySlabs::fused).
 template <bool kFused, class LeafFn, class PrefetchFn>
 bool traverse_closest_with(const Bvh& bvh, const RaySlabs& slabs, Ray& ray, LeafFn& leaf, PrefetchFn& prefetch) {
-  struct Entry { uint32_t child, count; float t; };
+  struct Entry {
+    uint32_t child, count;
+    float t;
+  };
   Entry stack[kTraversalStack];
   int top = 0;
   bool found = false;
@@ -302,7 +302,9 @@ bool traverse_closest(const Bvh& bvh, Ray& ray, IntersectFn&& intersect) {
 // traverse_any_leaves for one form of the slab distances (RaySlabs::fused).
 template <bool kFused, class LeafFn, class PrefetchFn>
 bool traverse_any_with(const Bvh& bvh, const RaySlabs& slabs, const Ray& ray, LeafFn& leaf, PrefetchFn& prefetch) {
-  struct Entry { uint32_t child, count; };
+  struct Entry {
+    uint32_t child, count;
+  };
   Entry stack[kTraversalStack];
   int top = 0;
   const FloatLanes t_min = lanes_set1(static_cast<float>(ray.t_min) * (1.0f - 0x1p-20f) - 1e-30f);

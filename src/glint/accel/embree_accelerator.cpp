@@ -2,10 +2,9 @@
 // interface. Each mesh becomes an Embree scene of its own (built once) and
 // each mesh object an instance of it; spheres, boxes, single triangles,
 // cylinders, cones, disks and polygons are one Embree user geometry whose
-// callbacks run our own double-precision tests (intersect_object); infinite planes are tested apart, as in our BVH. Embree traces mesh
-// triangles in float; the winning triangle is then re-intersected in double
-// (refine_mesh_hit), so shading sees the same t and barycentrics as with our
-// BVH and the two backends give the same image up to float ties.
+// callbacks run our own double-precision tests (intersect_object); infinite planes are tested apart, as in our BVH.
+// Embree traces mesh triangles in float; the winning triangle is then re-intersected in double (refine_mesh_hit), so
+// shading sees the same t and barycentrics as with our BVH and the two backends give the same image up to float ties.
 #include "glint/accel/accelerator.h"
 #include "glint/error.h"
 
@@ -30,8 +29,8 @@ namespace {
 struct QueryContext {
   RTCIntersectContext embree;  // must be first
   const Ray* world_ray;
-  Hit user_hit;                             // nearest analytic-shape hit so far
-  uint32_t blocker = 0;                     // occlusion: the object that blocked
+  Hit user_hit;          // nearest analytic-shape hit so far
+  uint32_t blocker = 0;  // occlusion: the object that blocked
 };
 
 float round_down(double v) {
@@ -92,8 +91,7 @@ class EmbreeAccelerator final : public Accelerator {
         RTCGeometry instance = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(instance, mesh_scenes_[object.shape]);
         float xfm[12];
-        const Transform& t =
-            object.transform == kNoTransform ? Transform{} : scene.transforms[object.transform];
+        const Transform& t = object.transform == kNoTransform ? Transform{} : scene.transforms[object.transform];
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 4; ++c) xfm[4 * r + c] = static_cast<float>(t.m[r][c]);
         rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);

@@ -57,8 +57,9 @@ MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options) {
     }
   };
   const size_t nodes = out.bvh.nodes.size();
-  const int threads = std::clamp(options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency()),
-                                 1, static_cast<int>(std::max<size_t>(1, nodes / 1024)));
+  const int threads =
+      std::clamp(options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency()), 1,
+                 static_cast<int>(std::max<size_t>(1, nodes / 1024)));
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(fill, nodes * t / threads, nodes * (t + 1) / threads);
   fill(0, nodes / threads);
@@ -164,30 +165,33 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
   float best = float_t_max_inclusive(ray);
   uint32_t best_block = 0, best_id = kNoHitId;
   int best_lane = 0;
-  const bool found = traverse_closest_leaves(m.bvh, traversal, [&](uint32_t first, uint32_t count, Ray& r) {
-    bool found = false;
-    for (uint32_t b = first; b < first + count; ++b) {
-      __m128 t;
-      int mask = intersect_block(m.blocks[b], wray, t_min, _mm_set1_ps(best), t);
-      if (!mask) continue;
-      alignas(16) float ts[4];
-      _mm_store_ps(ts, t);
-      while (mask) {
-        const int lane = __builtin_ctz(mask);
-        mask &= mask - 1;
-        const uint32_t id = m.blocks[b].id[lane];
-        if (ts[lane] < best || (ts[lane] == best && id < best_id)) {
-          best = ts[lane];
-          best_id = id;
-          best_block = b;
-          best_lane = lane;
-          found = true;
+  const bool found = traverse_closest_leaves(
+      m.bvh, traversal,
+      [&](uint32_t first, uint32_t count, Ray& r) {
+        bool found = false;
+        for (uint32_t b = first; b < first + count; ++b) {
+          __m128 t;
+          int mask = intersect_block(m.blocks[b], wray, t_min, _mm_set1_ps(best), t);
+          if (!mask) continue;
+          alignas(16) float ts[4];
+          _mm_store_ps(ts, t);
+          while (mask) {
+            const int lane = __builtin_ctz(mask);
+            mask &= mask - 1;
+            const uint32_t id = m.blocks[b].id[lane];
+            if (ts[lane] < best || (ts[lane] == best && id < best_id)) {
+              best = ts[lane];
+              best_id = id;
+              best_block = b;
+              best_lane = lane;
+              found = true;
+            }
+          }
         }
-      }
-    }
-    if (found) r.t_max = best;
-    return found;
-  }, [&](uint32_t first, uint32_t count) { prefetch_blocks(m, first, count); });
+        if (found) r.t_max = best;
+        return found;
+      },
+      [&](uint32_t first, uint32_t count) { prefetch_blocks(m, first, count); });
   if (!found) return false;
   t_hit = best;
   triangle = m.blocks[best_block].id[best_lane];
@@ -198,13 +202,16 @@ bool intersect_mesh_bvh(const MeshBvh& m, const Ray& ray, uint32_t& triangle, fl
 bool occluded_mesh_bvh(const MeshBvh& m, const Ray& ray) {
   const WatertightRay4 wray(ray);
   const __m128 t_min = _mm_set1_ps(float_t_min(ray)), t_max = _mm_set1_ps(float_t_max_inclusive(ray));
-  return traverse_any_leaves(m.bvh, ray, [&](uint32_t first, uint32_t count, const Ray&) {
-    for (uint32_t b = first; b < first + count; ++b) {
-      __m128 t;
-      if (intersect_block(m.blocks[b], wray, t_min, t_max, t)) return true;
-    }
-    return false;
-  }, [&](uint32_t first, uint32_t count) { prefetch_blocks(m, first, count); });
+  return traverse_any_leaves(
+      m.bvh, ray,
+      [&](uint32_t first, uint32_t count, const Ray&) {
+        for (uint32_t b = first; b < first + count; ++b) {
+          __m128 t;
+          if (intersect_block(m.blocks[b], wray, t_min, t_max, t)) return true;
+        }
+        return false;
+      },
+      [&](uint32_t first, uint32_t count) { prefetch_blocks(m, first, count); });
 }
 
 RayPacket make_ray_packet(const Ray* rays, int count) {
@@ -241,8 +248,12 @@ namespace {
 // has them, else two AVX halves. Masks are AVX-512 mask registers or AVX
 // vectors of all-ones lanes; `bits` gives them as an integer, bit i for ray i.
 #if defined(__AVX512F__)
-struct F16 { __m512 v; };
-struct I16 { __m512i v; };
+struct F16 {
+  __m512 v;
+};
+struct I16 {
+  __m512i v;
+};
 using M16 = __mmask16;
 inline F16 load16(const float* p) { return {_mm512_load_ps(p)}; }
 inline void store16(float* p, F16 a) { _mm512_store_ps(p, a.v); }
@@ -254,7 +265,9 @@ inline F16 operator/(F16 a, F16 b) { return {_mm512_div_ps(a.v, b.v)}; }
 inline F16 min16(F16 a, F16 b) { return {_mm512_min_ps(a.v, b.v)}; }
 inline F16 max16(F16 a, F16 b) { return {_mm512_max_ps(a.v, b.v)}; }
 template <int kCmp>
-inline M16 compare16(F16 a, F16 b) { return _mm512_cmp_ps_mask(a.v, b.v, kCmp); }
+inline M16 compare16(F16 a, F16 b) {
+  return _mm512_cmp_ps_mask(a.v, b.v, kCmp);
+}
 inline M16 and16(M16 a, M16 b) { return a & b; }
 inline M16 or16(M16 a, M16 b) { return a | b; }
 inline M16 andnot16(M16 a, M16 b) { return static_cast<M16>(~a & b); }  // b and not a
@@ -269,11 +282,18 @@ inline void store16(uint32_t* p, I16 a) { _mm512_store_si512(p, a.v); }
 inline float max_lane(F16 a) { return _mm512_reduce_max_ps(a.v); }
 inline float min_lane(F16 a) { return _mm512_reduce_min_ps(a.v); }
 #else
-struct F16 { __m256 lo, hi; };
-struct I16 { __m256i lo, hi; };
+struct F16 {
+  __m256 lo, hi;
+};
+struct I16 {
+  __m256i lo, hi;
+};
 using M16 = F16;
 inline F16 load16(const float* p) { return {_mm256_load_ps(p), _mm256_load_ps(p + 8)}; }
-inline void store16(float* p, F16 a) { _mm256_store_ps(p, a.lo); _mm256_store_ps(p + 8, a.hi); }
+inline void store16(float* p, F16 a) {
+  _mm256_store_ps(p, a.lo);
+  _mm256_store_ps(p + 8, a.hi);
+}
 inline F16 splat16(float x) { return {_mm256_set1_ps(x), _mm256_set1_ps(x)}; }
 inline F16 operator+(F16 a, F16 b) { return {_mm256_add_ps(a.lo, b.lo), _mm256_add_ps(a.hi, b.hi)}; }
 inline F16 operator-(F16 a, F16 b) { return {_mm256_sub_ps(a.lo, b.lo), _mm256_sub_ps(a.hi, b.hi)}; }
@@ -282,7 +302,9 @@ inline F16 operator/(F16 a, F16 b) { return {_mm256_div_ps(a.lo, b.lo), _mm256_d
 inline F16 min16(F16 a, F16 b) { return {_mm256_min_ps(a.lo, b.lo), _mm256_min_ps(a.hi, b.hi)}; }
 inline F16 max16(F16 a, F16 b) { return {_mm256_max_ps(a.lo, b.lo), _mm256_max_ps(a.hi, b.hi)}; }
 template <int kCmp>
-inline M16 compare16(F16 a, F16 b) { return {_mm256_cmp_ps(a.lo, b.lo, kCmp), _mm256_cmp_ps(a.hi, b.hi, kCmp)}; }
+inline M16 compare16(F16 a, F16 b) {
+  return {_mm256_cmp_ps(a.lo, b.lo, kCmp), _mm256_cmp_ps(a.hi, b.hi, kCmp)};
+}
 inline M16 and16(M16 a, M16 b) { return {_mm256_and_ps(a.lo, b.lo), _mm256_and_ps(a.hi, b.hi)}; }
 inline M16 or16(M16 a, M16 b) { return {_mm256_or_ps(a.lo, b.lo), _mm256_or_ps(a.hi, b.hi)}; }
 inline M16 andnot16(M16 a, M16 b) { return {_mm256_andnot_ps(a.lo, b.lo), _mm256_andnot_ps(a.hi, b.hi)}; }
@@ -298,7 +320,9 @@ inline M16 mask16(int bits) {
 inline F16 select16(M16 m, F16 yes, F16 no) {
   return {_mm256_blendv_ps(no.lo, yes.lo, m.lo), _mm256_blendv_ps(no.hi, yes.hi, m.hi)};
 }
-inline I16 splat16i(uint32_t x) { return {_mm256_set1_epi32(static_cast<int>(x)), _mm256_set1_epi32(static_cast<int>(x))}; }
+inline I16 splat16i(uint32_t x) {
+  return {_mm256_set1_epi32(static_cast<int>(x)), _mm256_set1_epi32(static_cast<int>(x))};
+}
 inline I16 select16(M16 m, I16 yes, I16 no) {
   auto half = [](__m256 mask, __m256i y, __m256i n) {
     return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(n), _mm256_castsi256_ps(y), mask));
@@ -309,7 +333,8 @@ inline M16 greater16(I16 a, I16 b) {
   return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(a.lo, b.lo)), _mm256_castsi256_ps(_mm256_cmpgt_epi32(a.hi, b.hi))};
 }
 inline I16 load16(const uint32_t* p) {
-  return {_mm256_load_si256(reinterpret_cast<const __m256i*>(p)), _mm256_load_si256(reinterpret_cast<const __m256i*>(p + 8))};
+  return {_mm256_load_si256(reinterpret_cast<const __m256i*>(p)),
+          _mm256_load_si256(reinterpret_cast<const __m256i*>(p + 8))};
 }
 inline void store16(uint32_t* p, I16 a) {
   _mm256_store_si256(reinterpret_cast<__m256i*>(p), a.lo);
@@ -442,10 +467,10 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
       const F16 e0 = x[1] * y[2] - y[1] * x[2];
       const F16 e1 = x[2] * y[0] - y[2] * x[0];
       const F16 e2 = x[0] * y[1] - y[0] * x[1];
-      const M16 any_neg = or16(or16(compare16<_CMP_LT_OQ>(e0, zero), compare16<_CMP_LT_OQ>(e1, zero)),
-                               compare16<_CMP_LT_OQ>(e2, zero));
-      const M16 any_pos = or16(or16(compare16<_CMP_GT_OQ>(e0, zero), compare16<_CMP_GT_OQ>(e1, zero)),
-                               compare16<_CMP_GT_OQ>(e2, zero));
+      const M16 any_neg =
+          or16(or16(compare16<_CMP_LT_OQ>(e0, zero), compare16<_CMP_LT_OQ>(e1, zero)), compare16<_CMP_LT_OQ>(e2, zero));
+      const M16 any_pos =
+          or16(or16(compare16<_CMP_GT_OQ>(e0, zero), compare16<_CMP_GT_OQ>(e1, zero)), compare16<_CMP_GT_OQ>(e2, zero));
       const F16 det = (e0 + e1) + e2;
       const F16 t_scaled = ((e0 * z[0] + e1 * z[1]) + e2 * z[2]) * shear_z;
       const F16 t = t_scaled / det;
@@ -491,7 +516,11 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   };
 
   // `mask`: for a leaf, the rays whose own box test passed.
-  struct Entry { uint32_t child, count; float t; int mask; };
+  struct Entry {
+    uint32_t child, count;
+    float t;
+    int mask;
+  };
   Entry stack[kTraversalStack];
   int top = 0;
   // As in traverse_closest_leaves: the nearest child is visited next without
@@ -544,7 +573,8 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
           if (h.count && !h.mask) continue;
           if (h.count) {  // leaf blocks: on their way while the others are ordered
             const char* block = reinterpret_cast<const char*>(&m.blocks[h.child]);
-            for (uint32_t line = 0; line < h.count * sizeof(Triangle4); line += 64) _mm_prefetch(block + line, _MM_HINT_T0);
+            for (uint32_t line = 0; line < h.count * sizeof(Triangle4); line += 64)
+              _mm_prefetch(block + line, _MM_HINT_T0);
           }
           int j = top++;  // sorted far to near
           while (j > first && stack[j - 1].t < h.t) {

@@ -51,11 +51,11 @@ bool occluded_mesh_bvh(const MeshBvh& mesh_bvh, const Ray& ray);
 // both, so the hits are exactly the single rays' hits.
 struct alignas(64) RayPacket {
   float origin[3][kPacketSize], direction[3][kPacketSize];
-  float inv_direction[3][kPacketSize];  // 1 / direction, clamped to +-2^100 as RaySlabs does
+  float inv_direction[3][kPacketSize];           // 1 / direction, clamped to +-2^100 as RaySlabs does
   float t_min[kPacketSize], t_max[kPacketSize];  // t_max shrinks to each hit
-  uint32_t triangle[kPacketSize];               // out: the hit, or kNoTriangle
-  uint32_t slot[kPacketSize];                   // out: where in MeshBvh::blocks (block * 4 + lane)
-  int count = 0;                                // rays in use
+  uint32_t triangle[kPacketSize];                // out: the hit, or kNoTriangle
+  uint32_t slot[kPacketSize];                    // out: where in MeshBvh::blocks (block * 4 + lane)
+  int count = 0;                                 // rays in use
 };
 inline constexpr uint32_t kNoTriangle = ~0u;
 

@@ -172,8 +172,8 @@ RenderResult Renderer::render(const RenderOptions& options) const {
     for (size_t t = 0; t < progress.done.size(); ++t) {
       const int tx0 = static_cast<int>(t % progress.tiles_x) * kTileSize;
       const int ty0 = static_cast<int>(t / progress.tiles_x) * kTileSize;
-      const bool inside = tx0 < options.x1 && tx0 + kTileSize > options.x0 && ty0 < options.y1 &&
-                          ty0 + kTileSize > options.y0;
+      const bool inside =
+          tx0 < options.x1 && tx0 + kTileSize > options.x0 && ty0 < options.y1 && ty0 + kTileSize > options.y0;
       if (!inside) progress.done[t] = 1;
     }
   }
@@ -187,8 +187,8 @@ RenderResult Renderer::render(const RenderOptions& options) const {
   // Once before any pixel, so a caller can cancel (or learn of a cancel, as
   // a binding checking for Ctrl-C does) even in a render too short for a tick.
   if (options.progress) options.progress(0.0);
-  result.complete = render_tiles(scene, *state_->accel, image, progress, ro, &stats,
-                                 passes.empty() ? nullptr : &pass_images);
+  result.complete =
+      render_tiles(scene, *state_->accel, image, progress, ro, &stats, passes.empty() ? nullptr : &pass_images);
   if (region) {
     // Pixels of edge tiles outside the region were rendered with their tile.
     auto clear_outside = [&](glint::Image& img) {

@@ -15,8 +15,8 @@
 
 #include "glint/api/scene_state.h"
 #include "glint/io/file_io.h"
-#include "glint/io/nff_file.h"
 #include "glint/io/mesh_scene.h"
+#include "glint/io/nff_file.h"
 #include "glint/io/scene_loader.h"
 
 namespace glint::api {
@@ -235,7 +235,8 @@ Json* find(Json& root, const std::vector<Step>& steps, bool create, std::string_
 
 Json parse_value(std::string_view json_text, std::string_view what) {
   Json v = Json::parse(json_text.begin(), json_text.end(), nullptr, false);
-  if (v.is_discarded()) throw Error(SourceLocation{}, std::string(what), "not valid JSON: " + std::string(json_text.substr(0, 80)));
+  if (v.is_discarded())
+    throw Error(SourceLocation{}, std::string(what), "not valid JSON: " + std::string(json_text.substr(0, 80)));
   return v;
 }
 
@@ -313,7 +314,8 @@ glint::Scene check(const Json& document, const AttachedMeshes& meshes, const Sce
     return parse_scene(document.dump(), from.name, from.base_dir, default_memory_budget(),
                        meshes.empty() ? nullptr : &meshes, from.files.get());
   } catch (const Error& e) {
-    if (e.path().empty() || e.message().size() < e.path().size() + 2) throw Error(SourceLocation{from.name, 0, 0}, e.message());
+    if (e.path().empty() || e.message().size() < e.path().size() + 2)
+      throw Error(SourceLocation{from.name, 0, 0}, e.message());
     throw Error(SourceLocation{from.name, 0, 0}, e.path(), e.message().substr(e.path().size() + 2));
   }
 }
@@ -325,15 +327,16 @@ Scene from_json_with(std::string_view json_text, const std::filesystem::path& ba
   std::string_view text = json_text;
   if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
   Json document = Json::parse(text.begin(), text.end());
-  return Scene(
-      make_state(std::move(document), std::move(scene), {}, std::nullopt, base_dir, std::string(name), std::move(files)));
+  return Scene(make_state(std::move(document), std::move(scene), {}, std::nullopt, base_dir, std::string(name),
+                          std::move(files)));
 }
 
 }  // namespace
 
 Scene load_scene_with(const std::filesystem::path& path, std::shared_ptr<FileCache> files) {
   // A bare mesh file: its framing scene is the document (io/mesh_scene.h).
-  if (is_mesh_file(path)) return from_json_with(mesh_scene_json(path), path.parent_path(), path.string(), std::move(files));
+  if (is_mesh_file(path))
+    return from_json_with(mesh_scene_json(path), path.parent_path(), path.string(), std::move(files));
   glint::Scene scene = load_scene(path, files.get());  // every check, with file:line:col
   if (is_nff_path(path)) {
     // An NFF file's document is the glint JSON its reader makes (docs/nff.md).
@@ -371,8 +374,8 @@ std::string Scene::to_json(int indent) const {
   const std::string marker = "\x01glint-attached-mesh:";
   for (Json& o : *objects) {
     if (!is_attached(o)) continue;
-    const auto it = o[kAttachedMeshKey].is_number_unsigned() ? s.meshes.find(o[kAttachedMeshKey].get<uint64_t>())
-                                                             : s.meshes.end();
+    const auto it =
+        o[kAttachedMeshKey].is_number_unsigned() ? s.meshes.find(o[kAttachedMeshKey].get<uint64_t>()) : s.meshes.end();
     if (it == s.meshes.end()) continue;
     texts.push_back(attached_text(o, *it->second));
     o = marker + std::to_string(texts.size() - 1);
@@ -444,7 +447,8 @@ void check_mesh_arrays(const MeshArrays& a, const std::string& scene_name) {
   };
   auto finite_rows = [&](const std::vector<float>& v, size_t k, const char* name) {
     for (size_t i = 0; i < v.size(); ++i)
-      if (!std::isfinite(v[i])) throw fail(std::string(name) + "[" + std::to_string(i / k) + "]", "not a finite number");
+      if (!std::isfinite(v[i]))
+        throw fail(std::string(name) + "[" + std::to_string(i / k) + "]", "not a finite number");
   };
   if (a.positions.size() % 3 != 0) throw fail("vertices", "expected 3 floats per vertex");
   const size_t n = a.positions.size() / 3;
@@ -457,7 +461,8 @@ void check_mesh_arrays(const MeshArrays& a, const std::string& scene_name) {
       throw fail("triangles[" + std::to_string(i / 3) + "]", "vertex index " + std::to_string(a.triangles[i]) +
                                                                  " out of range (" + std::to_string(n) + " vertices)");
   if (!a.normals.empty() && a.normals.size() != 3 * n)
-    throw fail("normals", "expected one per vertex (" + std::to_string(n) + "), got " + std::to_string(a.normals.size() / 3));
+    throw fail("normals",
+               "expected one per vertex (" + std::to_string(n) + "), got " + std::to_string(a.normals.size() / 3));
   if (!a.uvs.empty() && a.uvs.size() != 2 * n)
     throw fail("uvs", "expected one per vertex (" + std::to_string(n) + "), got " + std::to_string(a.uvs.size() / 2));
   finite_rows(a.positions, 3, "vertices");
@@ -467,7 +472,9 @@ void check_mesh_arrays(const MeshArrays& a, const std::string& scene_name) {
 
 }  // namespace
 
-Scene reread_files(const Scene& scene) { return Scene(edited(*scene.state(), [](Json&, AttachedMeshes&) {})); }
+Scene reread_files(const Scene& scene) {
+  return Scene(edited(*scene.state(), [](Json&, AttachedMeshes&) {}));
+}
 
 void Scene::set_json(std::string_view path, std::string_view json_value) {
   Json value = parse_value(json_value, path);

@@ -18,9 +18,9 @@ using TriangleVertices = std::array<Vec3f, 3>;
 struct Hit {
   double t = kInfinity;
   uint32_t object = 0;
-  double b1 = 0, b2 = 0;  // triangle barycentrics
-  int face = 0;           // box face
-  uint32_t primitive = 0; // mesh objects: the triangle
+  double b1 = 0, b2 = 0;   // triangle barycentrics
+  int face = 0;            // box face
+  uint32_t primitive = 0;  // mesh objects: the triangle
   // Mesh objects: that triangle's vertices in the mesh's space (floats, as
   // meshes store them), copied where the traversal had them in cache.
   // Shading reading them again through the mesh's index and vertex arrays

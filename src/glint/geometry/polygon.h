@@ -26,8 +26,8 @@ inline constexpr size_t kMaxNonConvexPolygonVertices = 10000;
 inline constexpr size_t kPolygonGridMinTriangles = 8;
 
 struct PolygonBuild {
-  Polygon polygon;            // valid when `error` is empty
-  std::string error;          // what is wrong, for a message
+  Polygon polygon;                // valid when `error` is empty
+  std::string error;              // what is wrong, for a message
   bool error_at_normals = false;  // the problem is the `normals` key, not `vertices`
 };
 

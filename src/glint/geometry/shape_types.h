@@ -14,10 +14,20 @@
 
 namespace glint {
 
-struct Sphere { Vec3 center; double radius = 1.0; };
-struct Plane { Vec3 point; Vec3 normal{0, 1, 0}; };  // world space, unit normal
-struct Triangle { Vec3 v0, v1, v2; };                 // world space
-struct Box { Vec3 lo, hi; };                          // object space
+struct Sphere {
+  Vec3 center;
+  double radius = 1.0;
+};
+struct Plane {
+  Vec3 point;
+  Vec3 normal{0, 1, 0};
+};  // world space, unit normal
+struct Triangle {
+  Vec3 v0, v1, v2;
+};  // world space
+struct Box {
+  Vec3 lo, hi;
+};  // object space
 
 // A cone frustum between two disks on its axis, in object space: `base` with
 // base_radius and `apex` with apex_radius (one of them may be 0: a pointed
@@ -65,15 +75,15 @@ struct Polygon {
 // than its normal's largest one; each cell lists, in ascending order, the
 // triangles whose (projected) boxes overlap it.
 struct PolygonGrid {
-  int u = 0, v = 1;              // the coordinates (0: x, 1: y, 2: z)
-  double lo[2] = {0, 0};         // the grid's corner
-  double cell[2] = {1, 1};       // a cell's size
-  int cells[2] = {1, 1};         // cells along u and v
-  std::vector<uint32_t> first;   // cell c = cu + cells[0] * cv lists items[first[c], first[c + 1])
-  std::vector<uint32_t> items;   // triangle indices
+  int u = 0, v = 1;                          // the coordinates (0: x, 1: y, 2: z)
+  double lo[2] = {0, 0};                     // the grid's corner
+  double cell[2] = {1, 1};                   // a cell's size
+  int cells[2] = {1, 1};                     // cells along u and v
+  std::vector<uint32_t> first;               // cell c = cu + cells[0] * cv lists items[first[c], first[c + 1])
+  std::vector<uint32_t> items;               // triangle indices
   std::vector<std::array<double, 4>> boxes;  // per triangle: lo u, lo v, hi u, hi v
-  double deviation = 0;  // the farthest any vertex is from the plane (normal through vertices[0])
-  double diagonal = 0;   // of the vertices' bounding box
+  double deviation = 0;                      // the farthest any vertex is from the plane (normal through vertices[0])
+  double diagonal = 0;                       // of the vertices' bounding box
 };
 
 }  // namespace glint

@@ -38,8 +38,14 @@ std::optional<BoxHit> intersect_box(const Box& box, const Ray& ray) {
       std::swap(t0, t1);
       std::swap(f0, f1);
     }
-    if (t0 > t_near) { t_near = t0; near_face = f0; }
-    if (t1 < t_far) { t_far = t1; far_face = f1; }
+    if (t0 > t_near) {
+      t_near = t0;
+      near_face = f0;
+    }
+    if (t1 < t_far) {
+      t_far = t1;
+      far_face = f1;
+    }
     if (t_near > t_far) return std::nullopt;
   }
   if (t_near > ray.t_min && t_near < ray.t_max && near_face >= 0) return BoxHit{t_near, near_face};
@@ -209,8 +215,10 @@ std::optional<PolygonHit> intersect_polygon(const Polygon& polygon, const Ray& r
         const std::array<double, 4>& b = g.boxes[i];
         return pu >= b[0] - margin && pv >= b[1] - margin && pu <= b[2] + margin && pv <= b[3] + margin;
       };
-      const double u0 = std::floor((pu - margin - g.lo[0]) / g.cell[0]), u1 = std::floor((pu + margin - g.lo[0]) / g.cell[0]);
-      const double v0 = std::floor((pv - margin - g.lo[1]) / g.cell[1]), v1 = std::floor((pv + margin - g.lo[1]) / g.cell[1]);
+      const double u0 = std::floor((pu - margin - g.lo[0]) / g.cell[0]),
+                   u1 = std::floor((pu + margin - g.lo[0]) / g.cell[0]);
+      const double v0 = std::floor((pv - margin - g.lo[1]) / g.cell[1]),
+                   v1 = std::floor((pv + margin - g.lo[1]) / g.cell[1]);
       // Past the grid (which bounds every triangle's box): nothing to hit.
       if (u1 < 0 || v1 < 0 || u0 >= g.cells[0] || v0 >= g.cells[1]) return std::nullopt;
       if (u0 == u1 && v0 == v1) {

@@ -7,9 +7,9 @@
 #include <optional>
 #include <utility>
 
+#include "glint/geometry/shape_types.h"
 #include "glint/geometry/triangle_shear.h"
 #include "glint/math/ray.h"
-#include "glint/geometry/shape_types.h"
 
 namespace glint {
 
@@ -43,7 +43,10 @@ std::optional<TriangleHit> intersect_triangle(const Triangle& tri, const Ray& ra
 // triangle_plane_hit (the plane crossing, for refining float hits) is in
 // triangle_shear.h.
 
-struct BoxHit { double t; int face; };  // face = 2*axis + (1 if the max side)
+struct BoxHit {
+  double t;
+  int face;
+};  // face = 2*axis + (1 if the max side)
 std::optional<BoxHit> intersect_box(const Box& box, const Ray& ray);
 
 // Outward unit normal of a box face.
@@ -55,7 +58,10 @@ inline Vec3 box_face_normal(int face) {
 
 // Cylinders and cones (Cone): which part was hit, as Hit::face.
 enum ConePart : int { kConeSide = 0, kConeBaseCap = 1, kConeApexCap = 2 };
-struct ConeHit { double t; int part; };
+struct ConeHit {
+  double t;
+  int part;
+};
 // Exact in double: the lateral quadric and the slab between the end planes
 // are each an interval along the ray, and a closed shape is their
 // intersection, whose ends are its entry and exit. A ray through the rim
@@ -67,7 +73,10 @@ std::optional<double> intersect_disk(const Disk& disk, const Ray& ray);
 
 // A polygon through its triangles (watertight triangle test, so the
 // triangulation's shared edges let no ray through).
-struct PolygonHit { double t, b1, b2; uint32_t triangle; };
+struct PolygonHit {
+  double t, b1, b2;
+  uint32_t triangle;
+};
 std::optional<PolygonHit> intersect_polygon(const Polygon& polygon, const Ray& ray);
 
 }  // namespace glint

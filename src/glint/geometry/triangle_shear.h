@@ -6,12 +6,14 @@
 
 #include <cmath>
 
-#include "glint/math/ray.h"
 #include "glint/geometry/shape_types.h"
+#include "glint/math/ray.h"
 
 namespace glint {
 
-struct TriangleHit { double t, b1, b2; };  // barycentrics of v1 and v2
+struct TriangleHit {
+  double t, b1, b2;
+};  // barycentrics of v1 and v2
 
 namespace watertight {
 

@@ -44,10 +44,8 @@ float tone_map(float linear, ToneMap map) {
   if (!(linear > 0.0f)) return 0.0f;  // also NaN
   const double x = linear;
   switch (map) {
-    case ToneMap::clamp:
-      return std::min(linear, 1.0f);
-    case ToneMap::reinhard:
-      return std::isinf(x) ? 1.0f : static_cast<float>(x / (1.0 + x));
+    case ToneMap::clamp: return std::min(linear, 1.0f);
+    case ToneMap::reinhard: return std::isinf(x) ? 1.0f : static_cast<float>(x / (1.0 + x));
     case ToneMap::aces:
       if (std::isinf(x)) return 1.0f;
       return static_cast<float>(std::clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0));

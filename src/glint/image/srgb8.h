@@ -32,8 +32,8 @@ struct Srgb8Table {
     bucket_code.resize(buckets);
     for (std::uint32_t i = 0; i < buckets; ++i) {
       const float start = std::bit_cast<float>(i << 16);
-      bucket_code[i] = static_cast<std::uint8_t>(
-          std::upper_bound(boundary.begin(), boundary.begin() + 255, start) - boundary.begin());
+      bucket_code[i] = static_cast<std::uint8_t>(std::upper_bound(boundary.begin(), boundary.begin() + 255, start) -
+                                                 boundary.begin());
     }
   }
 };

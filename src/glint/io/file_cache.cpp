@@ -37,7 +37,8 @@ bool FileCache::valid(const Entry& entry) const {
 
 std::shared_ptr<const MeshFile> FileCache::mesh(const fs::path& file, size_t memory_budget, bool vertex_normals) {
   const fs::path name = canonical_name(file);
-  const std::string key = "mesh " + std::to_string(memory_budget) + (vertex_normals ? " normals " : " flat ") + name.string();
+  const std::string key =
+      "mesh " + std::to_string(memory_budget) + (vertex_normals ? " normals " : " flat ") + name.string();
   std::lock_guard lock(mutex_);
   if (auto it = entries_.find(key); it != entries_.end() && valid(it->second)) return it->second.mesh;
   // Stamped before reading: a change while it is read makes the entry stale, not wrong.

@@ -4,13 +4,13 @@
 #include "glint/io/image_file.h"
 
 #include <fcntl.h>
-#include <stb_image.h>
 #include <png.h>
-#include <zlib.h>
+#include <stb_image.h>
 #include <stb_image_write.h>
 #include <sys/stat.h>
 #include <tinyexr.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -66,8 +66,7 @@ auto naming_the_file(const fs::path& path, void (*fail)(const fs::path&, const s
 
 std::string unsupported_extension_reason(const fs::path& path) {
   const std::string ext = path.extension().string();
-  return (ext.empty() ? std::string("no file extension")
-                      : "unsupported image extension '" + ext + "'") +
+  return (ext.empty() ? std::string("no file extension") : "unsupported image extension '" + ext + "'") +
          " (supported: " + std::string(supported_image_extensions()) + ")";
 }
 
@@ -232,8 +231,8 @@ MallocBytes encode_exr_channels(std::vector<ExrChannel> channels, int width, int
   std::vector<EXRChannelInfo> infos(count);
   for (std::size_t c = 0; c < count; ++c) {
     const ExrChannel& ch = channels[c];
-    if (!ch.image || ch.image->width != width || ch.image->height != height || ch.component < 0 ||
-        ch.component > 2 || ch.name.empty() || ch.name.size() >= sizeof(infos[c].name))
+    if (!ch.image || ch.image->width != width || ch.image->height != height || ch.component < 0 || ch.component > 2 ||
+        ch.name.empty() || ch.name.size() >= sizeof(infos[c].name))
       throw std::runtime_error("invalid EXR channel '" + ch.name + "'");
     planes[c].resize(n);
     for (std::size_t i = 0; i < n; ++i) planes[c][i] = ch.image->rgb[3 * i + static_cast<std::size_t>(ch.component)];
@@ -442,7 +441,8 @@ ExrPlanes decode_exr_planes(const fs::path& path, const Bytes& bytes, std::vecto
   if (header.tiled) fail_read(path, "tiled EXR files are not supported");
   for (int c = 0; c < header.num_channels; ++c) {
     const EXRChannelInfo& channel = header.channels[c];
-    if (channel.x_sampling != 1 || channel.y_sampling != 1) fail_read(path, "subsampled EXR channels are not supported");
+    if (channel.x_sampling != 1 || channel.y_sampling != 1)
+      fail_read(path, "subsampled EXR channels are not supported");
     if (header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT && uint_channels) uint_channels->push_back(channel.name);
     // Half channels widen to float exactly.
     if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
@@ -482,7 +482,8 @@ Image decode_hdr(const fs::path& path, const Bytes& bytes) {
   struct StbiDeleter {
     void operator()(float* p) const { stbi_image_free(p); }
   };
-  const std::unique_ptr<float, StbiDeleter> pixels(stbi_loadf_from_memory(bytes.data(), size, &w, &h, &file_channels, 3));
+  const std::unique_ptr<float, StbiDeleter> pixels(
+      stbi_loadf_from_memory(bytes.data(), size, &w, &h, &file_channels, 3));
   if (!pixels) {
     const char* reason = stbi_failure_reason();
     fail_read(path, std::string("corrupt image: ") + (reason ? reason : "unknown error"));
@@ -549,26 +550,16 @@ void write_image(const Image& image, const fs::path& path, const WriteOptions& o
     if (fs::is_directory(path, ec)) fail_write(path, "it is a directory");
 
     switch (*format) {
-      case ImageFormat::ppm:
-        write_file_atomically(path, encode_ppm(image, options), Flush::no);
-        break;
-      case ImageFormat::pfm:
-        write_file_atomically(path, encode_pfm(image), Flush::no);
-        break;
-      case ImageFormat::png:
-        write_file_atomically(path, encode_png(image, options), Flush::no);
-        break;
-      case ImageFormat::jpg:
-        write_file_atomically(path, encode_jpg(image, options), Flush::no);
-        break;
+      case ImageFormat::ppm: write_file_atomically(path, encode_ppm(image, options), Flush::no); break;
+      case ImageFormat::pfm: write_file_atomically(path, encode_pfm(image), Flush::no); break;
+      case ImageFormat::png: write_file_atomically(path, encode_png(image, options), Flush::no); break;
+      case ImageFormat::jpg: write_file_atomically(path, encode_jpg(image, options), Flush::no); break;
       case ImageFormat::exr: {
         const MallocBytes exr = encode_exr(image);
         write_file_atomically(path, {exr.data.get(), exr.size}, Flush::no);
         break;
       }
-      case ImageFormat::hdr:
-        write_file_atomically(path, encode_hdr(image), Flush::no);
-        break;
+      case ImageFormat::hdr: write_file_atomically(path, encode_hdr(image), Flush::no); break;
     }
   });
 }
@@ -616,17 +607,12 @@ Image read_image(const fs::path& path) {
     const Bytes bytes = read_file(path);
     if (bytes.empty()) fail_read(path, "the file is empty");
     switch (*format) {
-      case ImageFormat::ppm:
-        return decode_ppm(path, bytes);
-      case ImageFormat::pfm:
-        return decode_pfm(path, bytes);
+      case ImageFormat::ppm: return decode_ppm(path, bytes);
+      case ImageFormat::pfm: return decode_pfm(path, bytes);
       case ImageFormat::png:
-      case ImageFormat::jpg:
-        return decode_stb(path, bytes);
-      case ImageFormat::exr:
-        return decode_exr(path, bytes);
-      case ImageFormat::hdr:
-        return decode_hdr(path, bytes);
+      case ImageFormat::jpg: return decode_stb(path, bytes);
+      case ImageFormat::exr: return decode_exr(path, bytes);
+      case ImageFormat::hdr: return decode_hdr(path, bytes);
     }
     fail_read(path, "unknown image format");
   });

@@ -46,18 +46,16 @@ static_assert(sizeof(Node) == 16);
 
 struct DocumentData {
   std::string filename;
-  std::vector<Node> nodes;          // nodes[0] is the root
+  std::vector<Node> nodes;  // nodes[0] is the root
   // An array's items are children[first, first + n); an object's members are
   // the pairs (key node, value node) in children[first, first + 2n).
   std::vector<uint32_t> children;
-  std::string pool;                 // every string and key, back to back
+  std::string pool;  // every string and key, back to back
   // Offset of each line's first byte, ascending; line 1 starts after the BOM.
   std::vector<uint32_t> line_starts;
-  size_t size = 0;                  // of the file, in bytes
+  size_t size = 0;  // of the file, in bytes
 
-  std::string_view string(const Node& n) const {
-    return {pool.data() + n.span[0], n.span[1]};
-  }
+  std::string_view string(const Node& n) const { return {pool.data() + n.span[0], n.span[1]}; }
 
   SourceLocation location(size_t offset) const {
     offset = std::clamp<size_t>(offset, line_starts.front(), size);
@@ -94,9 +92,7 @@ constexpr std::array<uint8_t, 256> kCharClass = [] {
 bool is_whitespace(char c) { return kCharClass[static_cast<unsigned char>(c)] & kSpace; }
 bool is_gap(char c) { return kCharClass[static_cast<unsigned char>(c)] & kGap; }
 bool is_number_char(char c) { return kCharClass[static_cast<unsigned char>(c)] & kNumber; }
-bool is_alnum(char c) {
-  return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z');
-}
+bool is_alnum(char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
 
 // A key for a message: quoted, with quotes, backslashes and control
 // characters escaped so the message stays one readable line.
@@ -129,9 +125,7 @@ std::string describe_byte(unsigned char c) {
   return buf;
 }
 
-bool starts_with(std::string_view s, std::string_view prefix) {
-  return s.substr(0, prefix.size()) == prefix;
-}
+bool starts_with(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
 
 // nlohmann's token names, shortened for our messages.
 std::string token_name(std::string_view name) {
@@ -145,15 +139,11 @@ std::string token_name(std::string_view name) {
 
 struct KeyHash {
   const DocumentData* doc;
-  size_t operator()(uint32_t node) const {
-    return std::hash<std::string_view>{}(doc->string(doc->nodes[node]));
-  }
+  size_t operator()(uint32_t node) const { return std::hash<std::string_view>{}(doc->string(doc->nodes[node])); }
 };
 struct KeyEqual {
   const DocumentData* doc;
-  bool operator()(uint32_t a, uint32_t b) const {
-    return doc->string(doc->nodes[a]) == doc->string(doc->nodes[b]);
-  }
+  bool operator()(uint32_t a, uint32_t b) const { return doc->string(doc->nodes[a]) == doc->string(doc->nodes[b]); }
 };
 using KeySet = std::unordered_set<uint32_t, KeyHash, KeyEqual>;
 
@@ -166,8 +156,7 @@ using KeySet = std::unordered_set<uint32_t, KeyHash, KeyEqual>;
 // Everything here is iterative: nesting depth costs heap, never stack.
 class Builder {
  public:
-  Builder(std::string_view text, size_t base, DocumentData& doc)
-      : text_(text), base_(base), cursor_(base), doc_(doc) {}
+  Builder(std::string_view text, size_t base, DocumentData& doc) : text_(text), base_(base), cursor_(base), doc_(doc) {}
 
   bool null() { return scalar(Kind::null, 4); }
   bool boolean(bool value) {
@@ -179,9 +168,7 @@ class Builder {
   bool number_unsigned(NJson::number_unsigned_t value) { return number(static_cast<double>(value), 0); }
   // `token` is the lexer's copy of the number's text (byte for byte), which
   // gives its length for free.
-  bool number_float(NJson::number_float_t value, const NJson::string_t& token) {
-    return number(value, token.size());
-  }
+  bool number_float(NJson::number_float_t value, const NJson::string_t& token) { return number(value, token.size()); }
   bool binary(NJson::binary_t&) { return true; }  // never produced by the JSON text format
 
   bool string(NJson::string_t& value) {
@@ -200,8 +187,7 @@ class Builder {
         std::string_view other = doc_.string(doc_.nodes[pending_[frame.base + 2 * i]]);
         // Scene keys often share a length ("center", "radius"): test the
         // first byte before paying for a memcmp call.
-        duplicate = other.size() == value.size() && (other.empty() || other[0] == value[0]) &&
-                    other == value;
+        duplicate = other.size() == value.size() && (other.empty() || other[0] == value[0]) && other == value;
       }
     } else {
       if (!frame.keys) {
@@ -220,8 +206,7 @@ class Builder {
   bool end_object() { return close(); }
   bool end_array() { return close(); }
 
-  bool parse_error(std::size_t position, const std::string& last_token,
-                   const nlohmann::detail::exception& ex);
+  bool parse_error(std::size_t position, const std::string& last_token, const nlohmann::detail::exception& ex);
 
   // After a successful parse: nlohmann treats a NUL byte as the end of the
   // input, so make sure nothing but whitespace follows the root value.
@@ -235,9 +220,9 @@ class Builder {
 
  private:
   struct Frame {
-    uint32_t node;                  // the open array or object
-    size_t base;                    // its children start at pending_[base]
-    std::unique_ptr<KeySet> keys;   // only for objects past kLinearKeyLimit
+    uint32_t node;                 // the open array or object
+    size_t base;                   // its children start at pending_[base]
+    std::unique_ptr<KeySet> keys;  // only for objects past kLinearKeyLimit
   };
 
   [[noreturn]] void fail(size_t offset, std::string message) const {
@@ -307,8 +292,8 @@ class Builder {
       while (quote < text_.size() && text_[quote] != '"') quote += text_[quote] == '\\' ? 2 : 1;
     }
     cursor_ = std::min(quote + 1, text_.size());
-    uint32_t n = new_node(Kind::string, start, static_cast<uint32_t>(doc_.pool.size()),
-                          static_cast<uint32_t>(value.size()));
+    uint32_t n =
+        new_node(Kind::string, start, static_cast<uint32_t>(doc_.pool.size()), static_cast<uint32_t>(value.size()));
     doc_.pool += value;
     return n;
   }
@@ -317,8 +302,7 @@ class Builder {
     size_t start = token_start();
     cursor_ = start + 1;
     if (frames_.size() >= kMaxDepth) {
-      fail(start, "nesting too deep: more than " + std::to_string(kMaxDepth) +
-                      " levels of arrays and objects");
+      fail(start, "nesting too deep: more than " + std::to_string(kMaxDepth) + " levels of arrays and objects");
     }
     uint32_t n = new_node(kind, start);
     add_child(n);
@@ -341,8 +325,8 @@ class Builder {
   }
 
   std::string_view text_;
-  size_t base_;     // where nlohmann's input starts (after a BOM)
-  size_t cursor_;   // just past the last token that produced an event
+  size_t base_;    // where nlohmann's input starts (after a BOM)
+  size_t cursor_;  // just past the last token that produced an event
   DocumentData& doc_;
   std::vector<uint32_t> pending_;
   std::vector<Frame> frames_;
@@ -354,10 +338,9 @@ class Builder {
 // "[json.exception.parse_error.101] parse error at line 1, column 7: syntax
 // error while parsing value - unexpected '}'; expected '[', '{', or a literal";
 // we keep the gist and point at the token or the offending byte.
-bool Builder::parse_error(std::size_t position, const std::string& last_token,
-                          const nlohmann::detail::exception& ex) {
+bool Builder::parse_error(std::size_t position, const std::string& last_token, const nlohmann::detail::exception& ex) {
   const size_t size = text_.size();
-  const size_t end = std::min(base_ + position, size + 1);  // one past the last byte read
+  const size_t end = std::min(base_ + position, size + 1);       // one past the last byte read
   const size_t last = std::clamp(end, base_ + 1, size + 1) - 1;  // the last byte read (or EOF)
   auto back = [&](size_t length) { return end >= base_ + length ? end - length : base_; };
 
@@ -389,8 +372,7 @@ bool Builder::parse_error(std::size_t position, const std::string& last_token,
     rest.remove_prefix(11);
     size_t semi = rest.find("; expected ");
     std::string_view token = rest.substr(0, semi);
-    std::string_view expected =
-        semi == std::string_view::npos ? std::string_view() : rest.substr(semi + 11);
+    std::string_view expected = semi == std::string_view::npos ? std::string_view() : rest.substr(semi + 11);
     size_t start = last;
     std::string name = token_name(token);
     if (token == "string literal" || token == "number literal") {
@@ -587,8 +569,7 @@ void DocumentBuilder::end() {
   assert(node.kind == Kind::array || count % 2 == 0);
   node.span[0] = static_cast<uint32_t>(data_->children.size());
   node.span[1] = static_cast<uint32_t>(node.kind == Kind::object ? count / 2 : count);
-  data_->children.insert(data_->children.end(), pending_.begin() + static_cast<std::ptrdiff_t>(o.base),
-                         pending_.end());
+  data_->children.insert(data_->children.end(), pending_.begin() + static_cast<std::ptrdiff_t>(o.base), pending_.end());
   pending_.resize(o.base);
 }
 
@@ -719,8 +700,9 @@ Document parse_file(const std::string& path) {
       }
       if (n == 0) break;
       text.append(chunk, static_cast<size_t>(n));
-      if (text.size() > budget) fail("more than " + format_bytes(static_cast<double>(budget)) +
-                                     " read: that " + exceeds_budget(static_cast<double>(text.size()), budget));
+      if (text.size() > budget)
+        fail("more than " + format_bytes(static_cast<double>(budget)) + " read: that " +
+             exceeds_budget(static_cast<double>(text.size()), budget));
     }
   } catch (const Error&) {
     throw;

@@ -55,10 +55,10 @@ class Value {
 
   // Array items or object members; 0 for every other kind.
   size_t size() const;
-  Value operator[](size_t i) const;            // precondition: is_array(), i < size()
-  std::string_view key(size_t i) const;        // precondition: is_object(), i < size()
-  Value member(size_t i) const;                // precondition: is_object(), i < size()
-  SourceLocation key_location(size_t i) const; // where member i's key (its '"') is
+  Value operator[](size_t i) const;             // precondition: is_array(), i < size()
+  std::string_view key(size_t i) const;         // precondition: is_object(), i < size()
+  Value member(size_t i) const;                 // precondition: is_object(), i < size()
+  SourceLocation key_location(size_t i) const;  // where member i's key (its '"') is
   // The member named `key` (keys are unique: duplicates are a parse error), or
   // nullopt; also nullopt when this is not an object. Linear: objects are small.
   std::optional<Value> find(std::string_view key) const;

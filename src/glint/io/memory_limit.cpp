@@ -27,7 +27,8 @@ std::string exceeds_budget(double bytes, size_t budget) {
   if (budget == default_memory_budget())
     return "needs " + format_bytes(bytes) + ", more than half of this machine's " + format_bytes(2.0 * budget) +
            " of memory";
-  return "needs " + format_bytes(bytes) + ", more than the memory budget of " + format_bytes(static_cast<double>(budget));
+  return "needs " + format_bytes(bytes) + ", more than the memory budget of " +
+         format_bytes(static_cast<double>(budget));
 }
 
 }  // namespace glint

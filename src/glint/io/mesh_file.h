@@ -29,15 +29,15 @@ struct MeshTexture {
 
 struct MeshFile {
   std::vector<Vec3f> positions;
-  std::vector<uint32_t> indices;          // 3 per triangle, into positions
-  std::vector<Vec3f> corner_normals;      // 3 per triangle, unit: from the file, or computed;
-                                          // empty when not asked for (load_mesh_file)
-  std::vector<int32_t> triangle_material; // per triangle: index into `materials`, or -1 for none
-  std::vector<UVf> corner_uvs;            // 3 per triangle, or empty when the file has no UVs
-  std::vector<Material> materials;        // from the .mtl (contract defaults for keys it leaves out);
-                                          // their *_texture fields index `textures`
+  std::vector<uint32_t> indices;           // 3 per triangle, into positions
+  std::vector<Vec3f> corner_normals;       // 3 per triangle, unit: from the file, or computed;
+                                           // empty when not asked for (load_mesh_file)
+  std::vector<int32_t> triangle_material;  // per triangle: index into `materials`, or -1 for none
+  std::vector<UVf> corner_uvs;             // 3 per triangle, or empty when the file has no UVs
+  std::vector<Material> materials;         // from the .mtl (contract defaults for keys it leaves out);
+                                           // their *_texture fields index `textures`
   std::vector<MeshTexture> textures;
-  std::vector<std::string> warnings;      // one line each, e.g. "mesh.obj: dropped 3 degenerate triangles"
+  std::vector<std::string> warnings;  // one line each, e.g. "mesh.obj: dropped 3 degenerate triangles"
 
   size_t triangle_count() const { return indices.size() / 3; }
 };

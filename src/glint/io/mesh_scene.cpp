@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "glint/io/mesh_file.h"
 #include "glint/math/bounds.h"
@@ -13,8 +13,8 @@ namespace glint {
 
 namespace {
 // The rig's fixed choices (docs/cli.md).
-constexpr double kFovY = 40.0;       // degrees
-constexpr double kMargin = 1.15;     // the sphere's radius is this much inside the frame's height
+constexpr double kFovY = 40.0;    // degrees
+constexpr double kMargin = 1.15;  // the sphere's radius is this much inside the frame's height
 constexpr int kWidth = 800, kHeight = 450, kSamples = 4;
 }  // namespace
 
@@ -39,8 +39,12 @@ std::string mesh_scene_json(const std::filesystem::path& mesh) {
   const Vec3 fill = c + d * Vec3(1.0, 0.3, 0.7);  // low on the right, dimmer
   auto v = [](const Vec3& p) { return nlohmann::ordered_json::array({p.x, p.y, p.z}); };
   nlohmann::ordered_json scene = {
-      {"render", {{"width", kWidth}, {"height", kHeight}, {"samples_per_pixel", kSamples}, {"max_depth", 5},
-                  {"background", {0.05, 0.06, 0.08}}}},
+      {"render",
+       {{"width", kWidth},
+        {"height", kHeight},
+        {"samples_per_pixel", kSamples},
+        {"max_depth", 5},
+        {"background", {0.05, 0.06, 0.08}}}},
       {"camera", {{"position", v(eye)}, {"look_at", v(c)}, {"up", {0, 1, 0}}, {"fov_y", kFovY}}},
       {"lights",
        {{{"type", "ambient"}, {"ambient", 0.2}, {"name", "ambient"}},

@@ -23,13 +23,13 @@ class Document;
 
 // Where one part of the generated document came from.
 struct NffOrigin {
-  std::string entity;     // the NFF keyword, for messages: "s", "p", "v", ...
-  SourceLocation where;   // its keyword (for the view's parts: "from", "at", ... lines)
+  std::string entity;    // the NFF keyword, for messages: "s", "p", "v", ...
+  SourceLocation where;  // its keyword (for the view's parts: "from", "at", ... lines)
 };
 
 struct NffScene {
-  std::string filename;              // as messages name it
-  nlohmann::ordered_json document;   // a glint scene: render, camera, materials, lights, objects
+  std::string filename;             // as messages name it
+  nlohmann::ordered_json document;  // a glint scene: render, camera, materials, lights, objects
   // Keyed by the document path of each render/camera member, material,
   // light and object: "render.width", "camera.up", "materials.f1",
   // "lights[0]", "objects[7]".

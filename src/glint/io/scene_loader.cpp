@@ -78,7 +78,8 @@ Scene load_scene(const std::filesystem::path& path, FileCache* files) {
   if (is_nff_path(path)) return load_nff_scene(path);  // an NFF names no other file
   // A bare mesh file is framed by a fixed rig (io/mesh_scene.h).
   if (is_mesh_file(path))
-    return parse_scene(mesh_scene_json(path), path.string(), path.parent_path(), default_memory_budget(), nullptr, files);
+    return parse_scene(mesh_scene_json(path), path.string(), path.parent_path(), default_memory_budget(), nullptr,
+                       files);
   const json::Document doc = json::parse_file(path.string());
   try {
     return SceneReader(doc, path.parent_path(), default_memory_budget(), nullptr, files).read();

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "glint/error.h"
-#include "glint/io/image_file.h"
 #include "glint/io/file_io.h"
+#include "glint/io/image_file.h"
 
 namespace glint {
 namespace fs = std::filesystem;
@@ -66,7 +66,8 @@ TextureImage decode_with_stb(const fs::path& path, const std::vector<unsigned ch
     const std::unique_ptr<float, StbFree> p(stbi_loadf_from_memory(data, size, &w, &h, &channels, 3));
     if (!p) fail(path, reason());
     allocate();
-    for (size_t i = 0; i < out.texels.size(); ++i) out.texels[i] = {p.get()[3 * i], p.get()[3 * i + 1], p.get()[3 * i + 2]};
+    for (size_t i = 0; i < out.texels.size(); ++i)
+      out.texels[i] = {p.get()[3 * i], p.get()[3 * i + 1], p.get()[3 * i + 2]};
   } else if (stbi_is_16_bit_from_memory(data, size)) {
     const std::unique_ptr<stbi_us, StbFree> p(stbi_load_16_from_memory(data, size, &w, &h, &channels, 3));
     if (!p) fail(path, reason());
@@ -116,8 +117,8 @@ TextureImage load_texture_image(const fs::path& path) {
       if (bytes.empty()) fail(path, "the file is empty");
       out = decode_with_stb(path, bytes);
     } else {
-      fail(path, "unsupported format '" + path.extension().string() + "' (supported: " +
-                     supported_texture_extensions() + ")");
+      fail(path, "unsupported format '" + path.extension().string() +
+                     "' (supported: " + supported_texture_extensions() + ")");
     }
     if (out.width <= 0 || out.height <= 0) fail(path, "the image is empty");
     // A texel replaces a reflectance, which must be finite and >= 0 (as a

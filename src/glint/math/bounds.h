@@ -10,8 +10,14 @@ struct Bounds3 {
   Vec3 hi{-kInfinity, -kInfinity, -kInfinity};
 
   bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
-  void extend(const Vec3& p) { lo = min(lo, p); hi = max(hi, p); }
-  void extend(const Bounds3& b) { lo = min(lo, b.lo); hi = max(hi, b.hi); }
+  void extend(const Vec3& p) {
+    lo = min(lo, p);
+    hi = max(hi, p);
+  }
+  void extend(const Bounds3& b) {
+    lo = min(lo, b.lo);
+    hi = max(hi, b.hi);
+  }
   Vec3 center() const { return 0.5 * (lo + hi); }
   Vec3 diagonal() const { return hi - lo; }
   double surface_area() const {

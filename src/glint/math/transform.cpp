@@ -51,8 +51,7 @@ std::optional<Transform> Transform::from_affine(const Affine& a) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (!std::isfinite(inv[i][j])) return std::nullopt;
-  for (int i = 0; i < 3; ++i)
-    inv[i][3] = -(inv[i][0] * a[0][3] + inv[i][1] * a[1][3] + inv[i][2] * a[2][3]);
+  for (int i = 0; i < 3; ++i) inv[i][3] = -(inv[i][0] * a[0][3] + inv[i][1] * a[1][3] + inv[i][2] * a[2][3]);
   Transform t;
   t.m = a;
   t.inv = inv;
@@ -61,8 +60,12 @@ std::optional<Transform> Transform::from_affine(const Affine& a) {
 
 Transform Transform::translate(const Vec3& v) {
   Transform t;
-  t.m[0][3] = v.x; t.m[1][3] = v.y; t.m[2][3] = v.z;
-  t.inv[0][3] = -v.x; t.inv[1][3] = -v.y; t.inv[2][3] = -v.z;
+  t.m[0][3] = v.x;
+  t.m[1][3] = v.y;
+  t.m[2][3] = v.z;
+  t.inv[0][3] = -v.x;
+  t.inv[1][3] = -v.y;
+  t.inv[2][3] = -v.z;
   return t;
 }
 
@@ -91,8 +94,7 @@ Transform Transform::rotate(const Vec3& a, double degrees) {
 Bounds3 Transform::bounds(const Bounds3& b) const {
   Bounds3 out;
   for (int corner = 0; corner < 8; ++corner) {
-    out.extend(point({corner & 1 ? b.hi.x : b.lo.x, corner & 2 ? b.hi.y : b.lo.y,
-                      corner & 4 ? b.hi.z : b.lo.z}));
+    out.extend(point({corner & 1 ? b.hi.x : b.lo.x, corner & 2 ? b.hi.y : b.lo.y, corner & 4 ? b.hi.z : b.lo.z}));
   }
   return out;
 }

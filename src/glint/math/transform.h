@@ -17,9 +17,7 @@ struct Transform {
   Affine m = identity_affine();
   Affine inv = identity_affine();
 
-  static constexpr Affine identity_affine() {
-    return {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
-  }
+  static constexpr Affine identity_affine() { return {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}}; }
 
   // nullopt when the linear part is singular (|det| tiny next to its scale).
   static std::optional<Transform> from_affine(const Affine& a);
@@ -33,8 +31,7 @@ struct Transform {
   Vec3 inverse_vector(const Vec3& v) const { return apply(inv, v, 0.0); }
   // Normal of the transformed surface (not normalized): inverse transpose.
   Vec3 normal(const Vec3& n) const {
-    return {inv[0][0] * n.x + inv[1][0] * n.y + inv[2][0] * n.z,
-            inv[0][1] * n.x + inv[1][1] * n.y + inv[2][1] * n.z,
+    return {inv[0][0] * n.x + inv[1][0] * n.y + inv[2][0] * n.z, inv[0][1] * n.x + inv[1][1] * n.y + inv[2][1] * n.z,
             inv[0][2] * n.x + inv[1][2] * n.y + inv[2][2] * n.z};
   }
   Bounds3 bounds(const Bounds3& b) const;  // world box around a transformed box

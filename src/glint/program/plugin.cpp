@@ -31,8 +31,7 @@ std::filesystem::path find(const std::string& name) {
   const std::filesystem::path dir = program_dir();
   if (dir.empty()) return {};
   std::error_code ec;
-  for (const std::filesystem::path& candidate :
-       {dir / file_name(name), dir / GLINT_PLUGIN_SUBDIR / file_name(name)})
+  for (const std::filesystem::path& candidate : {dir / file_name(name), dir / GLINT_PLUGIN_SUBDIR / file_name(name)})
     if (std::filesystem::is_regular_file(candidate, ec)) return candidate.lexically_normal();
   return {};
 }
@@ -46,8 +45,8 @@ void* entry(const std::string& name, const char* symbol, bool global) {
     const std::filesystem::path path = find(name);
     if (path.empty())
       throw Error("the plugin " + file_name(name).string() + " is missing: it belongs beside the glint program (" +
-                  program_dir().string() + ") or in " + (program_dir() / GLINT_PLUGIN_SUBDIR).lexically_normal().string() +
-                  "; reinstall glint");
+                  program_dir().string() + ") or in " +
+                  (program_dir() / GLINT_PLUGIN_SUBDIR).lexically_normal().string() + "; reinstall glint");
     handle = dlopen(path.c_str(), RTLD_NOW | (global ? RTLD_GLOBAL : RTLD_LOCAL));
     if (!handle) {
       const char* why = dlerror();

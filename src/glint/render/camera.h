@@ -10,7 +10,7 @@ namespace glint {
 
 struct CameraFrame {
   CameraType type = CameraType::perspective;
-  Vec3 origin, forward, right, up;  // unit, right-handed: right = forward x up
+  Vec3 origin, forward, right, up;         // unit, right-handed: right = forward x up
   double half_width = 1, half_height = 1;  // tan(fov/2) or view_height/2, times aspect for width
 };
 

@@ -3,6 +3,7 @@
 #include <mpi.h>
 #include <signal.h>
 
+#include <time.h>
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
@@ -13,7 +14,6 @@
 #include <exception>
 #include <mutex>
 #include <thread>
-#include <time.h>
 
 #include "glint/error.h"
 #include "glint/render/tile_stream.h"
@@ -108,8 +108,8 @@ struct LocalWork {
   std::condition_variable ready;  // workers wait for items
   std::condition_variable wake;   // the main thread waits for finished items
   std::deque<int> queue;
-  bool closed = false;  // no more items will come
-  int busy = 0;         // taken by a worker, not finished
+  bool closed = false;        // no more items will come
+  int busy = 0;               // taken by a worker, not finished
   std::vector<int> finished;  // not yet reported by the main thread
   std::exception_ptr error;
 
@@ -150,7 +150,7 @@ struct Watch {
   double timeout = kDefaultRankTimeout;  // seconds
   const char* noun = "tiles";
   std::function<std::string(int item)> name;  // of an item in an error message
-  FaultInjection faults;                       // for tests
+  FaultInjection faults;                      // for tests
   std::chrono::duration<double> heartbeat() const { return std::chrono::duration<double>(std::min(1.0, timeout / 4)); }
   bool overdue(Clock::time_point since, Clock::time_point now) const {
     return std::chrono::duration<double>(now - since).count() > timeout;
@@ -223,9 +223,9 @@ class QueueDepth {
     const double span = std::chrono::duration<double>(recent_.back() - recent_.front()).count();
     if (span <= 0) return most_;
     const double per_second = static_cast<double>(recent_.size() - 1) / span;  // all workers together
-    const double cover = std::clamp(4 * round_trip_, 0.010, 0.100);             // seconds of work queued
-    return static_cast<int>(std::clamp(std::ceil(per_second * cover), static_cast<double>(least_),
-                                       static_cast<double>(most_)));
+    const double cover = std::clamp(4 * round_trip_, 0.010, 0.100);            // seconds of work queued
+    return static_cast<int>(
+        std::clamp(std::ceil(per_second * cover), static_cast<double>(least_), static_cast<double>(most_)));
   }
   int most() const { return most_; }
 
@@ -373,8 +373,8 @@ void follow(LocalWork& work, QueueDepth depth, const Results& results, const Wat
       check(MPI_Iprobe(0, kItems, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE), "MPI_Iprobe");
       if (flag) {
         std::vector<int> items(static_cast<size_t>(std::max(1, want)));
-        check(MPI_Recv(items.data(), static_cast<int>(items.size() * sizeof(int)), MPI_BYTE, 0, kItems,
-                       MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+        check(MPI_Recv(items.data(), static_cast<int>(items.size() * sizeof(int)), MPI_BYTE, 0, kItems, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE),
               "MPI_Recv");
         std::lock_guard lock(work.m);
         for (int item : items) {
@@ -467,8 +467,8 @@ double cpu_seconds(clockid_t clock) {
 }
 }  // namespace
 
-Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size,
-                   DistributedStats* stats, double rank_timeout, const FaultInjection& faults) {
+Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size, DistributedStats* stats,
+                   double rank_timeout, const FaultInjection& faults) {
   const auto start = std::chrono::steady_clock::now();
   const double process_cpu = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), main_cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
   const int w = scene.render.width, h = scene.render.height;

@@ -63,9 +63,9 @@ struct FaultInjection {
 FaultInjection test_faults(const std::function<const char*(const char* name)>& environment);
 
 struct DistributedStats {
-  RayStats rays;            // summed over ranks (rank 0)
-  uint64_t bytes_sent = 0;  // by every rank to every other, summed (rank 0)
-  uint64_t pixel_bytes = 0;  // of that, tile pixels received by rank 0 (the rest: tile numbers, requests)
+  RayStats rays;                   // summed over ranks (rank 0)
+  uint64_t bytes_sent = 0;         // by every rank to every other, summed (rank 0)
+  uint64_t pixel_bytes = 0;        // of that, tile pixels received by rank 0 (the rest: tile numbers, requests)
   std::vector<int> tiles_by_rank;  // rank 0
   // rank 0: each rank's CPU seconds in the render, and of that its main thread's (MPI)
   std::vector<double> cpu_by_rank, main_cpu_by_rank;

@@ -17,8 +17,8 @@ namespace glint {
 PixelExplanation explain_pixel(const Scene& scene, const Accelerator& accel, int x, int y) {
   const int w = scene.render.width, h = scene.render.height;
   if (x < 0 || y < 0 || x >= w || y >= h)
-    throw Error("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
-                std::to_string(w) + "x" + std::to_string(h) + " image");
+    throw Error("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " + std::to_string(w) +
+                "x" + std::to_string(h) + " image");
   const Integrator integrator(scene, accel);
   const CameraFrame frame = make_camera_frame(scene.camera, w, h);
   TraceContext ctx{pixel_rng(x, y), {}};
@@ -95,7 +95,8 @@ Json node_json(const Scene& scene, const RayTrace& t) {
       hit["uv"] = Json::array({t.surface.uv.u, t.surface.uv.v});
       Json textures = Json::array();
       for (const TextureLookup& l : texture_lookups(scene, t.surface))
-        textures.push_back({{"reflectance", l.slot}, {"texture", texture_source(scene, l.texture)}, {"value", vec(l.value)}});
+        textures.push_back(
+            {{"reflectance", l.slot}, {"texture", texture_source(scene, l.texture)}, {"value", vec(l.value)}});
       hit["textures"] = std::move(textures);
     }
     Json lights = Json::array();
@@ -212,8 +213,8 @@ std::string explanation_json(const Scene& scene, const PixelExplanation& e) {
 }
 
 std::string explanation_text(const Scene& scene, const PixelExplanation& e) {
-  std::string out = "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + ") = " + fmt(e.color) +
-                    "  [" + (scene.render.shading_model == ShadingModel::phong ? "phong" : "blinn-phong") + "]\n";
+  std::string out = "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + ") = " + fmt(e.color) + "  [" +
+                    (scene.render.shading_model == ShadingModel::phong ? "phong" : "blinn-phong") + "]\n";
   node_text(scene, e.ray, "", out);
   return out;
 }

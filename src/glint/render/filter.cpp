@@ -14,8 +14,7 @@ double gaussian(double x, double sigma) { return std::exp(-x * x / (2.0 * sigma 
 // for every B and C.
 double mitchell(double x, double b, double c) {
   x = std::abs(x);
-  if (x < 1.0)
-    return ((12 - 9 * b - 6 * c) * x * x * x + (-18 + 12 * b + 6 * c) * x * x + (6 - 2 * b)) / 6.0;
+  if (x < 1.0) return ((12 - 9 * b - 6 * c) * x * x * x + (-18 + 12 * b + 6 * c) * x * x + (6 - 2 * b)) / 6.0;
   if (x < 2.0)
     return ((-b - 6 * c) * x * x * x + (6 * b + 30 * c) * x * x + (-12 * b - 48 * c) * x + (8 * b + 24 * c)) / 6.0;
   return 0.0;
@@ -30,14 +29,14 @@ constexpr int kBinsPerPixel = 256;
 double filter_profile(const PixelFilter& f, double x) {
   if (!(std::abs(x) < f.radius)) return 0.0;
   switch (f.type) {
-    case FilterType::box:
-      return 1.0 / (2.0 * f.radius);
+    case FilterType::box: return 1.0 / (2.0 * f.radius);
     case FilterType::gaussian: {
       // pbrt's Gaussian: shifted down to reach 0 at the radius. Its integral
       // over [-r, r]: sigma sqrt(2 pi) erf(r / (sigma sqrt 2)) - 2 r g(r).
       const double edge = gaussian(f.radius, f.sigma);
-      const double integral = f.sigma * std::sqrt(2.0 * std::numbers::pi) * std::erf(f.radius / (f.sigma * std::sqrt(2.0))) -
-                              2.0 * f.radius * edge;
+      const double integral =
+          f.sigma * std::sqrt(2.0 * std::numbers::pi) * std::erf(f.radius / (f.sigma * std::sqrt(2.0))) -
+          2.0 * f.radius * edge;
       return (gaussian(x, f.sigma) - edge) / integral;
     }
     case FilterType::mitchell:

@@ -15,9 +15,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // The EXR channel names of a pass: color-like passes R, G, B; the normal X, Y, Z;
 // depth one channel Z.
@@ -46,10 +44,12 @@ FrameStart start_frame(const RenderSettings& r, uint64_t key, const FrameJob& jo
   if (job.resume) {
     if (auto state = read_resume_file(resume_path)) {
       if (state->key != key || state->image.width != r.width || state->image.height != r.height)
-        throw Error(resume_path.string() + ": made for a different scene, different scene files (meshes, "
+        throw Error(resume_path.string() +
+                    ": made for a different scene, different scene files (meshes, "
                     "textures) or different settings; delete it to render from the start");
       if (state->passes.passes != job.output.passes)
-        throw Error(resume_path.string() + ": made with other --passes; resume with the same passes, "
+        throw Error(resume_path.string() +
+                    ": made with other --passes; resume with the same passes, "
                     "or delete it to render from the start");
       start.image = std::move(state->image);
       start.tiles = std::move(state->progress);
@@ -164,8 +164,8 @@ FrameReport render_frame_to_files(const Scene& scene, uint64_t key, const FrameJ
   return report;
 }
 
-bool render_frames(const Scene& scene, uint64_t inputs_digest, const std::vector<FrameOutput>& plan,
-                   bool skip_existing, const FrameJob& job, const FrameEvents& events) {
+bool render_frames(const Scene& scene, uint64_t inputs_digest, const std::vector<FrameOutput>& plan, bool skip_existing,
+                   const FrameJob& job, const FrameEvents& events) {
   const bool animated = scene.animation.frames > 0;
   for (const FrameOutput& out : plan) {
     if (skip_existing && frame_done(out.path)) {

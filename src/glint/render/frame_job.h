@@ -70,11 +70,11 @@ struct FrameJob {
 };
 
 struct FrameReport {
-  bool complete = true;   // false: cancelled; the partial image and a resume file were written
-  bool resumed = false;   // started from a resume file
+  bool complete = true;  // false: cancelled; the partial image and a resume file were written
+  bool resumed = false;  // started from a resume file
   size_t tiles_done = 0, tiles_total = 0;
-  size_t pixels = 0;      // width * height (adaptive sampling refines some of them)
-  RenderStats stats;      // of this run (a resumed render counts only the tiles it rendered)
+  size_t pixels = 0;  // width * height (adaptive sampling refines some of them)
+  RenderStats stats;  // of this run (a resumed render counts only the tiles it rendered)
   double build_seconds = 0, write_seconds = 0;
 };
 
@@ -87,8 +87,8 @@ FrameReport render_frame_to_files(const Scene& scene, uint64_t key, const FrameJ
 
 // What render_frames tells its caller as it goes.
 struct FrameEvents {
-  std::function<void(const FrameOutput&)> skipped;   // skip_existing: its output was done
-  std::function<void(const FrameOutput&)> starting;  // before its scene is posed and built
+  std::function<void(const FrameOutput&)> skipped;                       // skip_existing: its output was done
+  std::function<void(const FrameOutput&)> starting;                      // before its scene is posed and built
   std::function<void(const FrameOutput&, const FrameReport&)> finished;  // complete or not
 };
 
@@ -97,7 +97,7 @@ struct FrameEvents {
 // frame; with `skip_existing`, frames already done are skipped. Stops after a
 // frame that did not complete (cancelled) and returns false; true when every
 // frame is done. `inputs_digest` is scene_inputs_digest(...) of `scene`.
-bool render_frames(const Scene& scene, uint64_t inputs_digest, const std::vector<FrameOutput>& plan,
-                   bool skip_existing, const FrameJob& job, const FrameEvents& events = {});
+bool render_frames(const Scene& scene, uint64_t inputs_digest, const std::vector<FrameOutput>& plan, bool skip_existing,
+                   const FrameJob& job, const FrameEvents& events = {});
 
 }  // namespace glint

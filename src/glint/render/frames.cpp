@@ -23,8 +23,8 @@ std::vector<int> parse_frame_range(std::string_view text, int frame_count) {
   const auto first = whole_number(text.substr(0, dash));
   const auto last = dash == std::string_view::npos ? first : whole_number(text.substr(dash + 1));
   if (!first || !last) throw Error(quoted + ": expected a frame N or a range A-B");
-  if (*first > *last) throw Error(quoted + ": the range is empty (" + std::to_string(*first) + " > " +
-                                  std::to_string(*last) + ")");
+  if (*first > *last)
+    throw Error(quoted + ": the range is empty (" + std::to_string(*first) + " > " + std::to_string(*last) + ")");
   if (*first < 0 || *last >= frame_count)
     throw Error(quoted + ": the scene has frames 0-" + std::to_string(frame_count - 1) +
                 (frame_count == 1 ? " (it is not animated)" : ""));

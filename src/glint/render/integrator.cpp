@@ -202,9 +202,9 @@ SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
 // offset origins every light sample and secondary ray uses.
 struct ShadingPoint {
   SurfacePoint sp;
-  Vec3 d;  // the incoming ray's unit direction
-  Vec3 v;  // toward the viewer: -d
-  Vec3 n;  // the shading normal on the viewer's side (two-sided surfaces)
+  Vec3 d;                 // the incoming ray's unit direction
+  Vec3 v;                 // toward the viewer: -d
+  Vec3 n;                 // the shading normal on the viewer's side (two-sided surfaces)
   bool entering = false;  // from the outside, by the geometric normal
   // Secondary rays leave from just off the surface: shadow and reflected
   // rays on the incoming side, refracted rays on the far side.
@@ -213,8 +213,8 @@ struct ShadingPoint {
 
 // A point light, a spot, an area light's sample point, or a direction.
 struct LightSample {
-  uint32_t light = 0;  // into Scene::lights
-  Vec3 to_light;       // from the surface point to the light's point, or toward a directional light
+  uint32_t light = 0;         // into Scene::lights
+  Vec3 to_light;              // from the surface point to the light's point, or toward a directional light
   double shadow_t_max = 1.0;  // 1: up to the light's point (to_light's length); infinity for a direction
   double distance = 0;        // for attenuation; 0 for a direction
   double weight = 1.0;        // 1 / samples for an area light
@@ -258,15 +258,10 @@ struct LightTraceRecorder {
   }
   void done(const Light& light, const ShadingPoint& at, const ShadeTerms& terms) {
     switch (light.type) {
-      case LightType::ambient:
-        break;
+      case LightType::ambient: break;
       case LightType::point:
-      case LightType::spot:
-        t->l = normalize(light.position - at.sp.p);
-        break;
-      case LightType::directional:
-        t->l = -light.direction;
-        break;
+      case LightType::spot: t->l = normalize(light.position - at.sp.p); break;
+      case LightType::directional: t->l = -light.direction; break;
       case LightType::area:  // toward the center
         t->samples = light.samples;
         t->l = normalize(light.corner + 0.5 * (light.edge_u + light.edge_v) - at.sp.p);
@@ -352,8 +347,7 @@ ShadingPoint shading_point(const Scene& scene, const Ray& ray, const Hit& hit, d
 
 Integrator::Integrator(const Scene& scene, const Accelerator& accel)
     : scene_(scene), accel_(accel), epsilon_(scene.render.epsilon.value_or(auto_epsilon(scene))) {
-  for (const Light& light : scene.lights)
-    cos_cutoff_.push_back(std::cos(light.cutoff * std::numbers::pi / 180.0));
+  for (const Light& light : scene.lights) cos_cutoff_.push_back(std::cos(light.cutoff * std::numbers::pi / 180.0));
 }
 
 template <class Recorder>
@@ -381,8 +375,7 @@ ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, 
   return shade(ray, hit, depth, ctx, rec);
 }
 
-Color Integrator::cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth,
-                                    TraceContext& ctx) const {
+Color Integrator::cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth, TraceContext& ctx) const {
   if (hit && depth == 1) ctx.stats.camera_hits++;
   return hit ? shade_surface(ray, *hit, depth, ctx).sum() : scene_.render.background;
 }
@@ -493,8 +486,7 @@ ShadeTerms Integrator::light_terms(const ShadingPoint& at, uint32_t li, TraceCon
   ShadeTerms terms;
   terms.ambient = at.sp.reflectance.ambient * light.ambient;
   switch (light.type) {
-    case LightType::ambient:
-      break;
+    case LightType::ambient: break;
     case LightType::point:
     case LightType::spot: {
       const Vec3 to_light = light.position - at.sp.p;
@@ -504,9 +496,7 @@ ShadeTerms Integrator::light_terms(const ShadingPoint& at, uint32_t li, TraceCon
     case LightType::directional:
       add_light_sample(at, LightSample{li, -light.direction, kInfinity, 0.0, 1.0}, terms, ctx, light_rec);
       break;
-    case LightType::area:
-      add_area_light(at, li, terms, ctx, light_rec);
-      break;
+    case LightType::area: add_area_light(at, li, terms, ctx, light_rec); break;
   }
   light_rec.done(light, at, terms);
   return terms;

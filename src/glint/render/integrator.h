@@ -21,7 +21,10 @@ struct RayStats {
   uint64_t camera_hits = 0;  // camera rays (depth 1) that hit a surface: the SPD's "eye rays that hit"
   uint64_t total() const { return camera + shadow + reflection + refraction; }
   RayStats& operator+=(const RayStats& o) {
-    camera += o.camera; shadow += o.shadow; reflection += o.reflection; refraction += o.refraction;
+    camera += o.camera;
+    shadow += o.shadow;
+    reflection += o.reflection;
+    refraction += o.refraction;
     camera_hits += o.camera_hits;
     return *this;
   }
@@ -54,10 +57,10 @@ struct ShadeTerms {
 // A camera ray's color by its parts, with the facts of its first hit: what
 // the passes (AOVs) store. terms.sum() is bit for bit cast_ray's color.
 struct CameraSample {
-  ShadeTerms terms;   // a miss puts the background in `ambient`
-  Vec3 normal;        // shading normal as used (turned toward the ray); 0 on a miss
-  double depth = 0;   // distance along the ray to the first hit; 0 on a miss
-  Color albedo;       // R_d at the first hit; 0 on a miss
+  ShadeTerms terms;  // a miss puts the background in `ambient`
+  Vec3 normal;       // shading normal as used (turned toward the ray); 0 on a miss
+  double depth = 0;  // distance along the ray to the first hit; 0 on a miss
+  Color albedo;      // R_d at the first hit; 0 on a miss
 };
 
 // Per-thread state a ray needs: random numbers (area lights), counters, and
@@ -78,15 +81,15 @@ struct TraceContext {
 
 // What one light did at a shaded point: the facts `glint explain` reports.
 struct LightTrace {
-  uint32_t index = 0;       // into Scene::lights
-  Vec3 l;                   // unit vector to the light (an area light's center)
+  uint32_t index = 0;  // into Scene::lights
+  Vec3 l;              // unit vector to the light (an area light's center)
   double n_dot_l = 0;
-  bool shadowed = false;    // every sample's shadow ray was blocked
-  std::optional<uint32_t> blocker;       // the first blocker found (an object index)
-  std::optional<double> specular_cos;    // r.v (phong) or n.h (blinn-phong), when lit
+  bool shadowed = false;               // every sample's shadow ray was blocked
+  std::optional<uint32_t> blocker;     // the first blocker found (an object index)
+  std::optional<double> specular_cos;  // r.v (phong) or n.h (blinn-phong), when lit
   double spot_factor = 1, attenuation = 1;
-  int samples = 1, lit_samples = 0;      // area lights: shadow samples and unblocked ones
-  ShadeTerms terms;                      // this light's ambient, diffuse, specular
+  int samples = 1, lit_samples = 0;  // area lights: shadow samples and unblocked ones
+  ShadeTerms terms;                  // this light's ambient, diffuse, specular
 };
 
 // The whole tree of rays behind one camera ray, filled when asked for.

@@ -10,8 +10,8 @@
 namespace glint {
 
 namespace {
-constexpr std::array<std::string_view, kPassCount> kNames = {
-    "ambient", "diffuse", "specular", "reflection", "transmission", "normal", "depth", "albedo"};
+constexpr std::array<std::string_view, kPassCount> kNames = {"ambient",      "diffuse", "specular", "reflection",
+                                                             "transmission", "normal",  "depth",    "albedo"};
 }  // namespace
 
 std::string_view pass_name(Pass pass) { return kNames[static_cast<size_t>(pass)]; }
@@ -42,8 +42,9 @@ std::vector<Pass> parse_pass_list(std::string_view list) {
       std::string msg = "--passes: unknown pass \"" + std::string(word) + "\"";
       const std::string hint = closest_match(word, names);
       if (!hint.empty()) msg += " (did you mean \"" + hint + "\"?)";
-      msg += " (expected a comma-separated list of ambient, diffuse, specular, reflection, transmission, "
-             "normal, depth, albedo, or all)";
+      msg +=
+          " (expected a comma-separated list of ambient, diffuse, specular, reflection, transmission, "
+          "normal, depth, albedo, or all)";
       throw Error(msg);
     }
     start = end + 1;

@@ -4,8 +4,8 @@
 #include <array>
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cmath>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -44,7 +44,8 @@ void add_camera_sample(const Integrator& integrator, const Ray& ray, double w, T
                        const std::optional<Hit>* known_hit = nullptr) {
   ctx.stats.camera++;
   if constexpr (!kWithPasses) {
-    sums.color += w * (known_hit ? integrator.cast_ray_with_hit(ray, *known_hit, 1, ctx) : integrator.cast_ray(ray, 1, ctx));
+    sums.color +=
+        w * (known_hit ? integrator.cast_ray_with_hit(ray, *known_hit, 1, ctx) : integrator.cast_ray(ray, 1, ctx));
   } else {
     const CameraSample s =
         known_hit ? integrator.cast_camera_ray_with_hit(ray, *known_hit, ctx) : integrator.cast_camera_ray(ray, ctx);
@@ -153,8 +154,8 @@ PixelContext make_pixel_context(const Integrator& integrator, const Scene& scene
 // The first pass over pixels [x0, x1) of row y. One center ray per pixel:
 // the first hits of up to kPacketSize (16) neighbouring pixels are traced as
 // a packet (the same hits as ray by ray), then each pixel is shaded as usual.
-void render_first_pass_row(const PixelContext& pc, const Accelerator& accel, int y, int x0, int x1,
-                           TraceContext& ctx, Image& image, PassImages* passes) {
+void render_first_pass_row(const PixelContext& pc, const Accelerator& accel, int y, int x0, int x1, TraceContext& ctx,
+                           Image& image, PassImages* passes) {
   const int spp = pc.scene.render.samples_per_pixel;
   if (spp != 1) {
     for (int x = x0; x < x1; ++x) render_pixel_into(pc, x, y, spp, ctx, image, passes);
@@ -191,12 +192,9 @@ TileProgress::TileProgress(int width, int height, int tile)
       tiles_y((height + tile - 1) / tile),
       done(static_cast<size_t>(tiles_x) * static_cast<size_t>(tiles_y), 0) {}
 
-size_t TileProgress::count_done() const {
-  return static_cast<size_t>(std::count(done.begin(), done.end(), stages));
-}
+size_t TileProgress::count_done() const { return static_cast<size_t>(std::count(done.begin(), done.end(), stages)); }
 
-Image render_image(const Scene& scene, const Accelerator& accel, const RenderOptions& options,
-                   RenderStats* stats) {
+Image render_image(const Scene& scene, const Accelerator& accel, const RenderOptions& options, RenderStats* stats) {
   Image image(scene.render.width, scene.render.height);
   TileProgress progress(scene.render.width, scene.render.height, std::max(1, options.tile_size));
   render_tiles(scene, accel, image, progress, options, stats);
@@ -324,7 +322,8 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
   run_stage(1, [&](int y, int x0, int x1, TraceContext& ctx) {
     render_first_pass_row(pc, accel, y, x0, x1, ctx, image, passes);
   });
-  if (adaptive && !cancelled() && std::all_of(progress.done.begin(), progress.done.end(), [](uint8_t d) { return d >= 1; })) {
+  if (adaptive && !cancelled() &&
+      std::all_of(progress.done.begin(), progress.done.end(), [](uint8_t d) { return d >= 1; })) {
     // Decided once, from the complete first pass (kept in resume files), so
     // the choice never depends on which tiles happened to be finished.
     if (progress.refine.empty()) progress.refine = find_pixels_to_refine(image, adaptive->threshold);

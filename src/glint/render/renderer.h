@@ -18,7 +18,7 @@
 namespace glint {
 
 struct RenderOptions {
-  int threads = 0;      // 0: all cores
+  int threads = 0;  // 0: all cores
   int tile_size = kTileSize;
   // Called on the calling thread about ten times a second with the fraction done.
   std::function<void(double fraction)> progress;
@@ -48,7 +48,7 @@ struct TileProgress {
 struct RenderStats {
   RayStats rays;
   size_t refined_pixels = 0;  // adaptive sampling: pixels rendered again at its max
-  double seconds = 0;  // wall time of the pixel loop
+  double seconds = 0;         // wall time of the pixel loop
   int threads = 1;
 };
 

@@ -137,8 +137,8 @@ uint64_t scene_inputs_digest(std::span<const unsigned char> description, const S
 uint64_t resume_key(uint64_t inputs_digest, const RenderSettings& s, int frame) {
   Digest d;
   d.add_value(inputs_digest);
-  const int32_t fields[] = {s.width, s.height, s.samples_per_pixel, s.max_depth,
-                            s.shading_model == ShadingModel::phong ? 0 : 1, frame};
+  const int32_t fields[] = {
+      s.width, s.height, s.samples_per_pixel, s.max_depth, s.shading_model == ShadingModel::phong ? 0 : 1, frame};
   d.add(fields, sizeof fields);
   // The filter and adaptive sampling can come from the command line.
   const PixelFilter& f = s.pixel_filter;
@@ -157,8 +157,8 @@ std::filesystem::path resume_path_for(const std::filesystem::path& output) {
 void write_resume_file(const std::filesystem::path& path, const ResumeState& state) {
   std::vector<unsigned char> out(kMagic, kMagic + kMagicSize);
   put(out, state.key);
-  const int32_t header[] = {state.image.width, state.image.height, state.progress.tile_size,
-                            state.progress.tiles_x, state.progress.tiles_y};
+  const int32_t header[] = {state.image.width, state.image.height, state.progress.tile_size, state.progress.tiles_x,
+                            state.progress.tiles_y};
   for (int32_t v : header) put(out, v);
   out.insert(out.end(), state.progress.done.begin(), state.progress.done.end());
   auto put_pixels = [&out](const Image& image) {

@@ -11,15 +11,13 @@ namespace glint {
 
 int wrap_texel(long long i, int n, TextureWrap wrap) {
   switch (wrap) {
-    case TextureWrap::clamp:
-      return static_cast<int>(std::clamp<long long>(i, 0, n - 1));
+    case TextureWrap::clamp: return static_cast<int>(std::clamp<long long>(i, 0, n - 1));
     case TextureWrap::mirror: {
       long long m = i % (2LL * n);
       if (m < 0) m += 2LL * n;
       return static_cast<int>(m < n ? m : 2LL * n - 1 - m);
     }
-    case TextureWrap::repeat:
-      break;
+    case TextureWrap::repeat: break;
   }
   long long m = i % n;
   return static_cast<int>(m < 0 ? m + n : m);

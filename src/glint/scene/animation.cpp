@@ -33,8 +33,8 @@ template <class T>
 std::pair<size_t, double> locate(const std::vector<Key<T>>& keys, double t) {
   if (t <= keys.front().time) return {0, 0.0};
   if (t >= keys.back().time) return {keys.size() - 1, 0.0};
-  const auto next = std::upper_bound(keys.begin(), keys.end(), t,
-                                     [](double time, const Key<T>& k) { return time < k.time; });
+  const auto next =
+      std::upper_bound(keys.begin(), keys.end(), t, [](double time, const Key<T>& k) { return time < k.time; });
   const size_t i = static_cast<size_t>(next - keys.begin()) - 1;
   if (keys[i].time == t) return {i, 0.0};
   return {i, (t - keys[i].time) / (keys[i + 1].time - keys[i].time)};
@@ -92,7 +92,8 @@ std::optional<Transform> object_transform_at(const ObjectTracks& tr, double t) {
   // The same sequence of compositions as the loader's read_transform, so a
   // frame on a key equals the static transform bit for bit.
   std::optional<Transform> out;
-  if (!tr.scale.empty() || tr.has_scale) out = Transform::scale(tr.scale.empty() ? tr.scale0 : sample_track(tr.scale, t));
+  if (!tr.scale.empty() || tr.has_scale)
+    out = Transform::scale(tr.scale.empty() ? tr.scale0 : sample_track(tr.scale, t));
   if (!tr.rotate.empty() || tr.has_rotate) {
     bool on_key = true;
     const Rotation r = tr.rotate.empty() ? tr.rotate0 : sample_track(tr.rotate, t, &on_key);

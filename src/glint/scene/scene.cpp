@@ -19,8 +19,7 @@ uint32_t add_material(Scene& scene, Material material) {
 
 namespace {
 
-uint32_t add_object(Scene& scene, ShapeType type, size_t shape, uint32_t material,
-                    uint32_t transform = kNoTransform) {
+uint32_t add_object(Scene& scene, ShapeType type, size_t shape, uint32_t material, uint32_t transform = kNoTransform) {
   Object object;
   object.type = type;
   object.shape = static_cast<uint32_t>(shape);
@@ -38,15 +37,12 @@ uint32_t add_transform(Scene& scene, const std::optional<Transform>& transform) 
 
 }  // namespace
 
-uint32_t add_sphere(Scene& scene, const Sphere& sphere, uint32_t material,
-                    const std::optional<Transform>& transform) {
+uint32_t add_sphere(Scene& scene, const Sphere& sphere, uint32_t material, const std::optional<Transform>& transform) {
   scene.spheres.push_back(sphere);
-  return add_object(scene, ShapeType::sphere, scene.spheres.size() - 1, material,
-                    add_transform(scene, transform));
+  return add_object(scene, ShapeType::sphere, scene.spheres.size() - 1, material, add_transform(scene, transform));
 }
 
-uint32_t add_plane(Scene& scene, const Plane& plane, uint32_t material,
-                   const std::optional<Transform>& transform) {
+uint32_t add_plane(Scene& scene, const Plane& plane, uint32_t material, const std::optional<Transform>& transform) {
   Plane world = plane;
   if (transform) {
     world.point = transform->point(plane.point);
@@ -69,11 +65,9 @@ uint32_t add_triangle(Scene& scene, const Triangle& triangle, uint32_t material,
   return add_object(scene, ShapeType::triangle, scene.triangles.size() - 1, material);
 }
 
-uint32_t add_box(Scene& scene, const Box& box, uint32_t material,
-                 const std::optional<Transform>& transform) {
+uint32_t add_box(Scene& scene, const Box& box, uint32_t material, const std::optional<Transform>& transform) {
   scene.boxes.push_back(box);
-  return add_object(scene, ShapeType::box, scene.boxes.size() - 1, material,
-                    add_transform(scene, transform));
+  return add_object(scene, ShapeType::box, scene.boxes.size() - 1, material, add_transform(scene, transform));
 }
 
 double fov_y_for_row_center_angle(double row_center_angle, int height) {
@@ -102,8 +96,7 @@ uint32_t add_polygon(Scene& scene, Polygon polygon, uint32_t material, const std
   polygon.bounds = Bounds3{};
   for (const Vec3& v : polygon.vertices) polygon.bounds.extend(v);
   scene.polygons.push_back(std::move(polygon));
-  return add_object(scene, ShapeType::polygon, scene.polygons.size() - 1, material,
-                    add_transform(scene, transform));
+  return add_object(scene, ShapeType::polygon, scene.polygons.size() - 1, material, add_transform(scene, transform));
 }
 
 uint32_t add_mesh(Scene& scene, Mesh mesh) {
@@ -155,9 +148,7 @@ Bounds3 object_bounds(const Scene& scene, uint32_t index) {
       b.extend(t.v2);
       break;
     }
-    case ShapeType::mesh:
-      b = scene.meshes[object.shape].bounds;
-      break;
+    case ShapeType::mesh: b = scene.meshes[object.shape].bounds; break;
     case ShapeType::cylinder:
     case ShapeType::cone: {
       const Cone& c = scene.cones[object.shape];
@@ -170,11 +161,8 @@ Bounds3 object_bounds(const Scene& scene, uint32_t index) {
       extend_disk(b, d.center, d.normal, d.radius);
       break;
     }
-    case ShapeType::polygon:
-      b = scene.polygons[object.shape].bounds;
-      break;
-    case ShapeType::plane:
-      return b;
+    case ShapeType::polygon: b = scene.polygons[object.shape].bounds; break;
+    case ShapeType::plane: return b;
   }
   if (object.transform != kNoTransform) b = scene.transforms[object.transform].bounds(b);
   return b;

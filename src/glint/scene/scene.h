@@ -26,8 +26,8 @@ enum class FilterType { box, gaussian, mitchell };
 // pixel center, f1 zero beyond `radius`, normalized so that f integrates to 1.
 struct PixelFilter {
   FilterType type = FilterType::box;
-  double radius = 0.5;  // box: the pixel itself (fixed); gaussian default 1.5, mitchell default 2
-  double sigma = 0.5;   // gaussian: standard deviation in pixels
+  double radius = 0.5;                  // box: the pixel itself (fixed); gaussian default 1.5, mitchell default 2
+  double sigma = 0.5;                   // gaussian: standard deviation in pixels
   double b = 1.0 / 3.0, c = 1.0 / 3.0;  // Mitchell-Netravali B and C
 };
 inline constexpr double kGaussianRadius = 1.5, kMitchellRadius = 2.0, kMaxFilterRadius = 16.0;
@@ -124,23 +124,21 @@ struct Material {
   uint32_t ambient_texture = kNoTexture, diffuse_texture = kNoTexture, specular_texture = kNoTexture;
 
   // One test on the integrator's hot path: plain colors skip all texture work.
-  bool textured() const {
-    return (ambient_texture & diffuse_texture & specular_texture) != kNoTexture;
-  }
+  bool textured() const { return (ambient_texture & diffuse_texture & specular_texture) != kNoTexture; }
 };
 
 enum class LightType { ambient, point, directional, spot, area };
 
 struct Light {
   LightType type = LightType::point;
-  Color ambient{0.0};   // L_a
-  Color diffuse{1.0};   // L_d
-  Color specular{1.0};  // L_s
-  Vec3 position;        // point, spot
-  Vec3 direction{0, -1, 0};  // directional, spot: unit, the way light travels
-  double cutoff = 180.0;     // spot half-angle, degrees
-  double falloff = 0.0;      // spot exponent
-  Vec3 attenuation{1, 0, 0};  // 1 / (c + l d + q d^2)
+  Color ambient{0.0};           // L_a
+  Color diffuse{1.0};           // L_d
+  Color specular{1.0};          // L_s
+  Vec3 position;                // point, spot
+  Vec3 direction{0, -1, 0};     // directional, spot: unit, the way light travels
+  double cutoff = 180.0;        // spot half-angle, degrees
+  double falloff = 0.0;         // spot exponent
+  Vec3 attenuation{1, 0, 0};    // 1 / (c + l d + q d^2)
   Vec3 corner, edge_u, edge_v;  // area: the parallelogram corner + s edge_u + t edge_v
   int samples = 16;             // area: shadow samples per shading point
   std::string name;
@@ -151,8 +149,8 @@ enum class ShapeType : uint8_t { sphere, plane, triangle, box, mesh, cylinder, c
 inline constexpr int kShapeTypeCount = 9;
 // The scene file's name of each type ("sphere", ..., "polygon").
 inline const char* shape_type_name(ShapeType t) {
-  static constexpr const char* kNames[kShapeTypeCount] = {"sphere", "plane",    "triangle", "box",    "mesh",
-                                                          "cylinder", "cone", "disk",     "polygon"};
+  static constexpr const char* kNames[kShapeTypeCount] = {"sphere",   "plane", "triangle", "box",    "mesh",
+                                                          "cylinder", "cone",  "disk",     "polygon"};
   return kNames[static_cast<int>(t)];
 }
 

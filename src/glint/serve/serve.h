@@ -26,12 +26,12 @@ struct ServerStats {
   uint64_t scene_version = 0;  // changes of the scene
   int tabs = 0;                // open event streams
   bool rendering = false;
-  uint64_t renders = 0;        // renders begun (a coarse and a full frame, or a re-encoding)
-  uint64_t frames = 0;         // frames published, coarse and full
+  uint64_t renders = 0;  // renders begun (a coarse and a full frame, or a re-encoding)
+  uint64_t frames = 0;   // frames published, coarse and full
   uint64_t full_frames = 0;
   uint64_t full_frame_scene_version = 0;  // the scene version the newest full frame shows
-  uint64_t file_reads = 0;     // mesh and texture files read from disk (not from the cache)
-  int builds = 0;              // acceleration structures built: only when the geometry changed
+  uint64_t file_reads = 0;                // mesh and texture files read from disk (not from the cache)
+  int builds = 0;                         // acceleration structures built: only when the geometry changed
 };
 
 // One preview server. The constructor loads the scene and binds the port

@@ -47,8 +47,8 @@ constexpr size_t kMaxRequestBytes = 1 << 20;
 // Each open event stream holds one HTTP thread; more tabs than this are refused.
 constexpr int kMaxStreams = 12;
 
-const std::vector<std::string> kPasses = {"image",      "ambient",      "diffuse", "specular", "reflection",
-                                          "transmission", "normal", "depth",   "albedo"};
+const std::vector<std::string> kPasses = {"image",        "ambient", "diffuse", "specular", "reflection",
+                                          "transmission", "normal",  "depth",   "albedo"};
 
 // --- HTTP helpers ------------------------------------------------------------
 
@@ -76,9 +76,16 @@ std::string sse(const std::string& event, const std::string& data) {
 }
 
 Json frame_json(const Frame& f) {
-  return {{"seq", f.seq},     {"version", f.version}, {"scene_version", f.scene_version}, {"coarse", f.coarse}, {"width", f.width},
-          {"height", f.height}, {"pass", f.pass.empty() ? "image" : f.pass}, {"exposure", f.exposure},
-          {"tonemap", f.tonemap},   {"render_ms", f.render_ms}};
+  return {{"seq", f.seq},
+          {"version", f.version},
+          {"scene_version", f.scene_version},
+          {"coarse", f.coarse},
+          {"width", f.width},
+          {"height", f.height},
+          {"pass", f.pass.empty() ? "image" : f.pass},
+          {"exposure", f.exposure},
+          {"tonemap", f.tonemap},
+          {"render_ms", f.render_ms}};
 }
 
 // A command's field, or "" / false when it is missing or of another type
@@ -93,8 +100,8 @@ bool true_field(const Json& body, const char* key) {
 }
 
 void write_text_atomically(const fs::path& path, const std::string& text) {
-  write_file_atomically(path, std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(text.data()),
-                                                             text.size()));
+  write_file_atomically(
+      path, std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
 }
 
 Json parse_body(const httplib::Request& req) {
@@ -145,8 +152,7 @@ int connection_socket(const httplib::Request& req) {
     if (!socket_end(fd, true, peer_address, peer_port) || peer_port != req.remote_port ||
         peer_address != req.remote_addr)
       continue;
-    if (req.local_port > 0 &&
-        (!socket_end(fd, false, local_address, local_port) || local_port != req.local_port))
+    if (req.local_port > 0 && (!socket_end(fd, false, local_address, local_port) || local_port != req.local_port))
       continue;
     return fd;
   }
@@ -227,8 +233,7 @@ Server::Impl::Impl(const ServeOptions& opts)
   // spent while nothing changes. A new connection to this machine costs less.
   http.set_keep_alive_max_count(1);
   const std::string& host = options.host;
-  port = options.port == 0 ? http.bind_to_any_port(host)
-                           : (http.bind_to_port(host, options.port) ? options.port : -1);
+  port = options.port == 0 ? http.bind_to_any_port(host) : (http.bind_to_port(host, options.port) ? options.port : -1);
   if (port <= 0) throw Error("cannot listen on " + host + ":" + std::to_string(options.port));
 }
 
@@ -329,67 +334,66 @@ void Server::Impl::guard_routes() {
 // The scene's edits: edit, undo and redo, reset, resolve a conflict.
 void Server::Impl::edit_routes() {
   http.Post("/api/edit", command([this](const Json& body) {
-    const Json edits = body.contains("edits") ? body["edits"] : Json();
-    const std::string coalesce = string_field(body, "coalesce");
-    Scene base = [&] {
-      std::lock_guard lock(session.mutex);
-      return session.scene_;
-    }();
-    // The loader runs outside the lock (it may read mesh files).
-    Scene edited = apply_edits(base, edits);
-    std::lock_guard lock(session.mutex);
-    if (session.scene_.state() != base.state())  // another tab edited meanwhile: apply to the newest
-      edited = apply_edits(session.scene_, edits);
-    session.push_undo(coalesce);
-    session.scene_ = edited;
-    session.dirty_ = true;
-    scene_changed();
-    return Json{{"ok", true}, {"version", session.version_}};
-  }));
+              const Json edits = body.contains("edits") ? body["edits"] : Json();
+              const std::string coalesce = string_field(body, "coalesce");
+              Scene base = [&] {
+                std::lock_guard lock(session.mutex);
+                return session.scene_;
+              }();
+              // The loader runs outside the lock (it may read mesh files).
+              Scene edited = apply_edits(base, edits);
+              std::lock_guard lock(session.mutex);
+              if (session.scene_.state() != base.state())  // another tab edited meanwhile: apply to the newest
+                edited = apply_edits(session.scene_, edits);
+              session.push_undo(coalesce);
+              session.scene_ = edited;
+              session.dirty_ = true;
+              scene_changed();
+              return Json{{"ok", true}, {"version", session.version_}};
+            }));
 
   http.Post("/api/undo", command([this](const Json& body) {
-    std::lock_guard lock(session.mutex);
-    const bool redo = true_field(body, "redo");
-    auto& from = redo ? session.redo_ : session.undo_;
-    auto& to = redo ? session.undo_ : session.redo_;
-    if (from.empty()) throw Error(redo ? "nothing to redo" : "nothing to undo");
-    // Its mesh and texture files as they are now, not as they were then.
-    Scene target = api::reread_files(from.back());
-    to.push_back(session.scene_);
-    session.scene_ = std::move(target);
-    from.pop_back();
-    session.coalesce_key_.clear();
-    session.dirty_ = session.scene_.to_json() != session.file_scene_.to_json();
-    scene_changed();
-    return Json{{"ok", true}, {"version", session.version_}};
-  }));
+              std::lock_guard lock(session.mutex);
+              const bool redo = true_field(body, "redo");
+              auto& from = redo ? session.redo_ : session.undo_;
+              auto& to = redo ? session.undo_ : session.redo_;
+              if (from.empty()) throw Error(redo ? "nothing to redo" : "nothing to undo");
+              // Its mesh and texture files as they are now, not as they were then.
+              Scene target = api::reread_files(from.back());
+              to.push_back(session.scene_);
+              session.scene_ = std::move(target);
+              from.pop_back();
+              session.coalesce_key_.clear();
+              session.dirty_ = session.scene_.to_json() != session.file_scene_.to_json();
+              scene_changed();
+              return Json{{"ok", true}, {"version", session.version_}};
+            }));
 
   http.Post("/api/reset", command([this](const Json&) {
-    std::lock_guard lock(session.mutex);
-    session.push_undo("");
-    session.scene_ = session.file_scene_;
-    session.dirty_ = false;
-    session.conflict_.reset();
-    scene_changed();
-    return Json{{"ok", true}, {"version", session.version_}};
-  }));
+              std::lock_guard lock(session.mutex);
+              session.push_undo("");
+              session.scene_ = session.file_scene_;
+              session.dirty_ = false;
+              session.conflict_.reset();
+              scene_changed();
+              return Json{{"ok", true}, {"version", session.version_}};
+            }));
 
   http.Post("/api/resolve", command([this](const Json& body) {
-    std::lock_guard lock(session.mutex);
-    if (!session.conflict_) throw Error("no conflict to resolve");
-    const std::string keep = string_field(body, "keep");
-    if (keep == "file") {
-      session.push_undo("");
-      session.scene_ = *session.conflict_;
-      session.dirty_ = false;
-    } else if (keep != "mine") {
-      throw Error("keep: \"file\" or \"mine\"");
-    }
-    session.conflict_.reset();
-    scene_changed();
-    return Json{{"ok", true}, {"version", session.version_}};
-  }));
-
+              std::lock_guard lock(session.mutex);
+              if (!session.conflict_) throw Error("no conflict to resolve");
+              const std::string keep = string_field(body, "keep");
+              if (keep == "file") {
+                session.push_undo("");
+                session.scene_ = *session.conflict_;
+                session.dirty_ = false;
+              } else if (keep != "mine") {
+                throw Error("keep: \"file\" or \"mine\"");
+              }
+              session.conflict_.reset();
+              scene_changed();
+              return Json{{"ok", true}, {"version", session.version_}};
+            }));
 }
 
 // The view (exposure, tone map, pass), a pixel's ray tree, saving, the state.
@@ -400,61 +404,61 @@ void Server::Impl::view_and_file_routes() {
   });
 
   http.Post("/api/view", command([this](const Json& body) {
-    std::lock_guard lock(session.mutex);
-    View v = session.view_;
-    if (body.contains("exposure")) {
-      const Json& e = body["exposure"];
-      if (!e.is_number() || !(e.get<double>() >= -64 && e.get<double>() <= 64))
-        throw Error("exposure: a number from -64 to 64");
-      v.exposure = e.get<double>();
-    }
-    if (body.contains("tonemap")) {
-      const Json& t = body["tonemap"];
-      if (t != "clamp" && t != "reinhard" && t != "aces") throw Error("tonemap: clamp, reinhard or aces");
-      v.tonemap = t.get<std::string>();
-    }
-    if (body.contains("pass")) {
-      const Json& p = body["pass"];
-      if (!p.is_string() || std::find(kPasses.begin(), kPasses.end(), p.get<std::string>()) == kPasses.end())
-        throw Error("unknown pass " + p.dump());
-      v.pass = p.get<std::string>();
-    }
-    session.view_ = v;
-    session.bump(false);
-    return Json{{"ok", true}, {"version", session.version_}};
-  }));
+              std::lock_guard lock(session.mutex);
+              View v = session.view_;
+              if (body.contains("exposure")) {
+                const Json& e = body["exposure"];
+                if (!e.is_number() || !(e.get<double>() >= -64 && e.get<double>() <= 64))
+                  throw Error("exposure: a number from -64 to 64");
+                v.exposure = e.get<double>();
+              }
+              if (body.contains("tonemap")) {
+                const Json& t = body["tonemap"];
+                if (t != "clamp" && t != "reinhard" && t != "aces") throw Error("tonemap: clamp, reinhard or aces");
+                v.tonemap = t.get<std::string>();
+              }
+              if (body.contains("pass")) {
+                const Json& p = body["pass"];
+                if (!p.is_string() || std::find(kPasses.begin(), kPasses.end(), p.get<std::string>()) == kPasses.end())
+                  throw Error("unknown pass " + p.dump());
+                v.pass = p.get<std::string>();
+              }
+              session.view_ = v;
+              session.bump(false);
+              return Json{{"ok", true}, {"version", session.version_}};
+            }));
 
   http.Post("/api/explain", command([this](const Json& body) {
-    const auto x = body.find("x"), y = body.find("y");
-    if (x == body.end() || y == body.end() || !x->is_number_integer() || !y->is_number_integer())
-      throw Error("explain: \"x\" and \"y\", a pixel's column and row");
-    return Json::parse(worker->explain(x->get<int>(), y->get<int>()));
-  }));
+              const auto x = body.find("x"), y = body.find("y");
+              if (x == body.end() || y == body.end() || !x->is_number_integer() || !y->is_number_integer())
+                throw Error("explain: \"x\" and \"y\", a pixel's column and row");
+              return Json::parse(worker->explain(x->get<int>(), y->get<int>()));
+            }));
 
   http.Post("/api/save", command([this](const Json& body) {
-    std::lock_guard lock(session.mutex);
-    const std::string text = session.scene_.to_json(2) + "\n";
-    const std::string mode = string_field(body, "mode");
-    if (mode == "overwrite") {
-      if (path.extension() != ".json") throw Error(path.filename().string() + " is not a scene file: save as new");
-      write_text_atomically(path, text);
-      session.file_scene_ = session.scene_;
-      session.dirty_ = false;
-      session.conflict_.reset();
-      session.notice_ = "saved " + path.filename().string();
-    } else if (mode == "new") {
-      // The name is glint's: nothing in the request takes part in it.
-      const fs::path target = new_file_beside(path);
-      write_text_atomically(target, text);
-      session.notice_ = "saved as " + target.filename().string();
-    } else {
-      throw Error("mode: \"overwrite\" or \"new\"");
-    }
-    ++session.notice_seq_;
-    session.bump(false);
-    return Json{{"ok", true}, {"notice", session.notice_}};
-  }));
-
+              std::lock_guard lock(session.mutex);
+              const std::string text = session.scene_.to_json(2) + "\n";
+              const std::string mode = string_field(body, "mode");
+              if (mode == "overwrite") {
+                if (path.extension() != ".json")
+                  throw Error(path.filename().string() + " is not a scene file: save as new");
+                write_text_atomically(path, text);
+                session.file_scene_ = session.scene_;
+                session.dirty_ = false;
+                session.conflict_.reset();
+                session.notice_ = "saved " + path.filename().string();
+              } else if (mode == "new") {
+                // The name is glint's: nothing in the request takes part in it.
+                const fs::path target = new_file_beside(path);
+                write_text_atomically(target, text);
+                session.notice_ = "saved as " + target.filename().string();
+              } else {
+                throw Error("mode: \"overwrite\" or \"new\"");
+              }
+              ++session.notice_seq_;
+              session.bump(false);
+              return Json{{"ok", true}, {"notice", session.notice_}};
+            }));
 }
 
 // Frames by number: only the last few that were rendered.
@@ -478,7 +482,6 @@ void Server::Impl::frame_routes() {
     res.set_header("Content-Disposition", "attachment; filename=\"glint.pfm\"");
     res.set_content(std::string(bytes.begin(), bytes.end()), "application/octet-stream");
   });
-
 }
 
 // Server-sent events: the state and each new frame, to every tab. A stream

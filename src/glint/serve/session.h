@@ -80,25 +80,25 @@ class Session {
   Scene scene_;       // what is shown and edited
   Scene file_scene_;  // the file as last loaded (reset, dirty)
   bool dirty_ = false;
-  std::string error_;                 // the file's last load error ("error: file:line:col: ...")
-  std::optional<Scene> conflict_;     // the file changed under unsaved edits
+  std::string error_;              // the file's last load error ("error: file:line:col: ...")
+  std::optional<Scene> conflict_;  // the file changed under unsaved edits
   std::vector<Scene> undo_, redo_;
-  std::string coalesce_key_;          // a slider drag is one undo step
+  std::string coalesce_key_;  // a slider drag is one undo step
   std::chrono::steady_clock::time_point coalesce_time_;
   View view_;
-  uint64_t version_ = 1;         // any change of scene or view
-  uint64_t scene_version_ = 1;   // changes of the scene
-  std::deque<Frame> frames_;     // the last few frames
+  uint64_t version_ = 1;        // any change of scene or view
+  uint64_t scene_version_ = 1;  // changes of the scene
+  std::deque<Frame> frames_;    // the last few frames
   uint64_t frame_seq_ = 0;
   uint64_t full_frames_ = 0;
   uint64_t full_frame_scene_version_ = 0;
   uint64_t renders_ = 0;
-  int builds_ = 0;               // acceleration structures built (the worker's Renderer)
+  int builds_ = 0;  // acceleration structures built (the worker's Renderer)
   bool rendering_ = false;
   int streams_ = 0;              // open event streams (visible tabs)
   std::set<int> stream_wakers_;  // their eventfds: a stream sleeps in poll() on its own and its socket
   bool stop_ = false;
-  std::string notice_;           // one-off message for the page (saved as ...)
+  std::string notice_;  // one-off message for the page (saved as ...)
   uint64_t notice_seq_ = 0;
 
   std::atomic<bool> cancel{false};
@@ -177,8 +177,11 @@ class Session {
     s["notice"] = notice_;
     s["notice_seq"] = notice_seq_;
     s["can_overwrite"] = path_.extension() == ".json";
-    s["stats"] = {{"tabs", stats.tabs},     {"renders", stats.renders},         {"frames", stats.frames},
-                  {"full_frames", stats.full_frames}, {"file_reads", stats.file_reads},
+    s["stats"] = {{"tabs", stats.tabs},
+                  {"renders", stats.renders},
+                  {"frames", stats.frames},
+                  {"full_frames", stats.full_frames},
+                  {"file_reads", stats.file_reads},
                   {"builds", stats.builds}};
     return s;
   }

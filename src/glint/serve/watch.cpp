@@ -22,8 +22,7 @@ fs::path absolute_path(const fs::path& p) {
 }
 }  // namespace
 
-FileWatcher::FileWatcher(OnChange on_change, int settle_ms)
-    : on_change_(std::move(on_change)), settle_ms_(settle_ms) {
+FileWatcher::FileWatcher(OnChange on_change, int settle_ms) : on_change_(std::move(on_change)), settle_ms_(settle_ms) {
   inotify_fd_ = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
   wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (inotify_fd_ < 0 || wake_fd_ < 0) throw Error(std::string("cannot watch files: ") + std::strerror(errno));

@@ -111,8 +111,8 @@ void Worker::loop() {
 }
 
 // Coarse, then full; false when cancelled.
-bool Worker::render_version(const Scene& scene, uint64_t version, uint64_t scene_version, const std::string& pass, const api::WriteOptions& wo,
-                     std::shared_ptr<const api::Image>& last_full) {
+bool Worker::render_version(const Scene& scene, uint64_t version, uint64_t scene_version, const std::string& pass,
+                            const api::WriteOptions& wo, std::shared_ptr<const api::Image>& last_full) {
   {
     std::unique_lock lock(renderer_mutex_);
     if (!renderer_) renderer_ = std::make_unique<api::Renderer>(scene, api::PrepareOptions{threads_});
@@ -160,8 +160,8 @@ bool Worker::render_version(const Scene& scene, uint64_t version, uint64_t scene
   return true;
 }
 
-void Worker::publish_full(const api::Image& img, uint64_t version, uint64_t scene_version, const std::string& pass, const api::WriteOptions& wo,
-                  double ms, std::shared_ptr<const api::Image> linear) {
+void Worker::publish_full(const api::Image& img, uint64_t version, uint64_t scene_version, const std::string& pass,
+                          const api::WriteOptions& wo, double ms, std::shared_ptr<const api::Image> linear) {
   Frame f;
   f.version = version;
   f.scene_version = scene_version;

@@ -99,8 +99,8 @@ void SceneReader::read_object_key(const Value& v, const Path& path, double time,
 // The object named by member m of a key's "objects": its index, static
 // transform and object-space geometry. False when that object did not load
 // (validate goes on without it).
-bool SceneReader::find_animated_object(const Value& keyed, size_t m, const Path& path, const std::optional<Value>& objects,
-                                       ObjectTracks& tracks) const {
+bool SceneReader::find_animated_object(const Value& keyed, size_t m, const Path& path,
+                                       const std::optional<Value>& objects, ObjectTracks& tracks) const {
   const std::string_view name = keyed.key(m);
   std::vector<size_t> named;
   Keys all_names;
@@ -111,9 +111,7 @@ bool SceneReader::find_animated_object(const Value& keyed, size_t m, const Path&
     all_names.push_back(n->as_string());
     if (n->as_string() == name) named.push_back(j);
   }
-  auto fail_name = [&](const std::string& what) {
-    throw Error(keyed.key_location(m), Path(path, name).str(), what);
-  };
+  auto fail_name = [&](const std::string& what) { throw Error(keyed.key_location(m), Path(path, name).str(), what); };
   if (named.empty()) {
     std::string what = "unknown object " + quote_text(name);
     const std::string hint = closest_match(name, all_names);
@@ -129,7 +127,8 @@ bool SceneReader::find_animated_object(const Value& keyed, size_t m, const Path&
   const Path op = index("objects", named[0]);
   if (auto t = o.find("transform")) {
     if (t->find("matrix"))
-      fail_name("object " + quote_text(name) + " has a \"matrix\" transform, which cannot be animated "
+      fail_name("object " + quote_text(name) +
+                " has a \"matrix\" transform, which cannot be animated "
                 "(write it as scale, rotate and translate)");
     const Path tp = join(op, "transform");
     if (auto s = t->find("scale")) {

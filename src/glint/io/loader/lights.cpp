@@ -20,12 +20,12 @@ void SceneReader::read_lights(const Value& list) {
 void SceneReader::read_light(const Value& v, const Path& path) {
   expect_object(v, path);
   static const Keys types = {"point", "directional", "ambient", "spot", "area"};
-  const LightType kinds[] = {LightType::point, LightType::directional, LightType::ambient,
-                             LightType::spot, LightType::area};
+  const LightType kinds[] = {LightType::point, LightType::directional, LightType::ambient, LightType::spot,
+                             LightType::area};
   Light light;
   light.type = kinds[choice(require(v, path, "type"), join(path, "type"), types, "light type")];
-  const std::string type_name(types[static_cast<size_t>(
-      std::find(std::begin(kinds), std::end(kinds), light.type) - std::begin(kinds))]);
+  const std::string type_name(
+      types[static_cast<size_t>(std::find(std::begin(kinds), std::end(kinds), light.type) - std::begin(kinds))]);
 
   Keys allowed = {"type", "name", "ambient", "color"};
   switch (light.type) {
@@ -33,7 +33,8 @@ void SceneReader::read_light(const Value& v, const Path& path) {
     case LightType::point: allowed.insert(allowed.end(), {"diffuse", "specular", "position", "attenuation"}); break;
     case LightType::directional: allowed.insert(allowed.end(), {"diffuse", "specular", "direction"}); break;
     case LightType::spot:
-      allowed.insert(allowed.end(), {"diffuse", "specular", "position", "direction", "cutoff", "falloff", "attenuation"});
+      allowed.insert(allowed.end(),
+                     {"diffuse", "specular", "position", "direction", "cutoff", "falloff", "attenuation"});
       break;
     case LightType::area:
       allowed.insert(allowed.end(), {"diffuse", "specular", "corner", "edge_u", "edge_v", "samples", "attenuation"});
@@ -42,12 +43,14 @@ void SceneReader::read_light(const Value& v, const Path& path) {
   // Keys that belong to other light types get a precise message.
   for (size_t k = 0; k < v.size(); ++k) {
     const std::string_view key = v.key(k);
-    static const Keys any_light = {"diffuse", "specular", "position", "direction", "cutoff", "falloff",
-                                   "attenuation", "corner", "edge_u", "edge_v", "samples"};
+    static const Keys any_light = {"diffuse",     "specular", "position", "direction", "cutoff", "falloff",
+                                   "attenuation", "corner",   "edge_u",   "edge_v",    "samples"};
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end() &&
         std::find(any_light.begin(), any_light.end(), key) != any_light.end())
-      throw Error(v.key_location(k), join(path, key).str(), std::string("not valid for ") +
-                                         (light.type == LightType::ambient || light.type == LightType::area ? "an " : "a ") + type_name + " light");
+      throw Error(v.key_location(k), join(path, key).str(),
+                  std::string("not valid for ") +
+                      (light.type == LightType::ambient || light.type == LightType::area ? "an " : "a ") + type_name +
+                      " light");
   }
   check_keys(v, path, allowed);
 

@@ -31,7 +31,8 @@ void SceneReader::read_materials(const Value& m) {
 void SceneReader::read_material(const Value& v, const Path& path) {
   const std::string name(path.last_key());
   expect_object(v, path);
-  check_keys(v, path, {"ambient", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior", "fresnel"});
+  check_keys(v, path,
+             {"ambient", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior", "fresnel"});
   Material mat;
   mat.name = name;
   if (auto x = v.find("ambient")) reflectance(*x, join(path, "ambient"), mat.ambient, mat.ambient_texture);
@@ -52,16 +53,19 @@ void SceneReader::reflectance(const Value& v, const Path& path, Color& c, uint32
     return;
   }
   if (v.is_string())
-    fail(v, path, "expected a color ([r, g, b] or a number) or a texture object, got a string (an image is "
-                  "written {\"texture\": " + quote_text(v.as_string()) + "})");
+    fail(v, path,
+         "expected a color ([r, g, b] or a number) or a texture object, got a string (an image is "
+         "written {\"texture\": " +
+             quote_text(v.as_string()) + "})");
   c = color(v, path);
 }
 
 // [a, b] of finite numbers.
 std::array<double, 2> SceneReader::pair(const Value& v, const Path& path) const {
   if (!v.is_array() || v.size() != 2)
-    fail(v, path, std::string("expected [u, v], got ") +
-                      (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
+    fail(v, path,
+         std::string("expected [u, v], got ") +
+             (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
   return {number(v[0], index(path, 0)), number(v[1], index(path, 1))};
 }
 

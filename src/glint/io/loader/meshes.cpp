@@ -91,8 +91,9 @@ uint32_t SceneReader::load_mesh(const Value& v, const Path& path) {
   const std::string excess = exceeds_budget(
       kBytesPerVertex * double(mesh_vertices_) + kBytesPerTriangle * double(mesh_triangles_), memory_budget_);
   if (!excess.empty())
-    fail(v, path, "with this mesh the scene's " + std::to_string(mesh_index_.size() + 1) + " mesh files hold " +
-                      std::to_string(mesh_triangles_) + " triangles: that " + excess);
+    fail(v, path,
+         "with this mesh the scene's " + std::to_string(mesh_index_.size() + 1) + " mesh files hold " +
+             std::to_string(mesh_triangles_) + " triangles: that " + excess);
   const uint32_t index = add_mesh(scene_, std::move(mesh));
   mesh_index_[cache_key] = index;
   return index;
@@ -123,15 +124,18 @@ uint32_t SceneReader::inline_mesh(const Value& v, const Path& path, bool smooth)
     const Value tri = tris[t];
     const Path p = index(tp, t);
     if (!tri.is_array() || tri.size() != 3)
-      fail(tri, p, std::string("expected [i, j, k] (three vertex indices), got ") +
-                       (tri.is_array() ? "an array of " + std::to_string(tri.size()) : std::string(tri.kind_name())));
+      fail(tri, p,
+           std::string("expected [i, j, k] (three vertex indices), got ") +
+               (tri.is_array() ? "an array of " + std::to_string(tri.size()) : std::string(tri.kind_name())));
     for (size_t k = 0; k < 3; ++k) {
       const Path ip = index(p, k);
       const double x = number(tri[k], ip);
-      if (!tri[k].is_integer() || x != std::floor(x)) fail(tri[k], ip, "expected a whole number, got " + format_number(x));
+      if (!tri[k].is_integer() || x != std::floor(x))
+        fail(tri[k], ip, "expected a whole number, got " + format_number(x));
       if (!(x >= 0 && x < double(verts.size())))
-        fail(tri[k], ip, "vertex index " + format_number(x) + " out of range (" + std::to_string(verts.size()) +
-                             (verts.size() == 1 ? " vertex)" : " vertices)"));
+        fail(tri[k], ip,
+             "vertex index " + format_number(x) + " out of range (" + std::to_string(verts.size()) +
+                 (verts.size() == 1 ? " vertex)" : " vertices)"));
       indices[3 * t + k] = static_cast<uint32_t>(x);
     }
   }
@@ -169,8 +173,8 @@ void SceneReader::count_inline_mesh(const Value& v, const Path& path, size_t ver
   const std::string excess = exceeds_budget(
       kBytesPerVertex * double(mesh_vertices_) + kBytesPerTriangle * double(mesh_triangles_), memory_budget_);
   if (!excess.empty())
-    fail(v, path, "with this mesh the scene's meshes hold " + std::to_string(mesh_triangles_) + " triangles: that " +
-                      excess);
+    fail(v, path,
+         "with this mesh the scene's meshes hold " + std::to_string(mesh_triangles_) + " triangles: that " + excess);
 }
 
 // The rules of a mesh file (mesh_from_arrays) applied to an inline or
@@ -216,7 +220,8 @@ uint32_t SceneReader::attached_mesh(const Value& v, const Path& path, bool smoot
   std::vector<Vec3f> positions(n);
   for (size_t i = 0; i < n; ++i) positions[i] = {a.positions[3 * i], a.positions[3 * i + 1], a.positions[3 * i + 2]};
   std::vector<Vec3f> normals(a.normals.size() / 3);
-  for (size_t i = 0; i < normals.size(); ++i) normals[i] = {a.normals[3 * i], a.normals[3 * i + 1], a.normals[3 * i + 2]};
+  for (size_t i = 0; i < normals.size(); ++i)
+    normals[i] = {a.normals[3 * i], a.normals[3 * i + 1], a.normals[3 * i + 2]};
   std::vector<UVf> uvs(a.uvs.size() / 2);
   for (size_t i = 0; i < uvs.size(); ++i) uvs[i] = {a.uvs[2 * i], a.uvs[2 * i + 1]};
   return add_mesh_from_arrays(v, path, std::move(positions), a.triangles, normals, uvs, smooth);

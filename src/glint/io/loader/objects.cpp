@@ -20,8 +20,7 @@ std::optional<Transform> SceneReader::read_transform(const Value& v, const Path&
   check_keys(v, path, {"scale", "rotate", "translate", "matrix"});
   Transform t;
   if (auto m = v.find("matrix")) {
-    if (v.size() != 1)
-      fail(v, path, "\"matrix\" cannot be combined with \"scale\", \"rotate\" or \"translate\"");
+    if (v.size() != 1) fail(v, path, "\"matrix\" cannot be combined with \"scale\", \"rotate\" or \"translate\"");
     const Path p = join(path, "matrix");
     if (!m->is_array() || m->size() != 16) fail(*m, p, "expected 16 numbers (a 4x4 matrix, row by row)");
     double e[16];
@@ -175,9 +174,7 @@ void SceneReader::read_object(const Value& v, const Path& path) {
       break;
     }
     case 5:
-    case 6:
-      object = read_cone(v, path, type == 5, material, transform);
-      break;
+    case 6: object = read_cone(v, path, type == 5, material, transform); break;
     case 7: {
       Disk d;
       d.center = vec3(require(v, path, "center"), join(path, "center"));
@@ -187,14 +184,13 @@ void SceneReader::read_object(const Value& v, const Path& path) {
         d.inner_radius = non_negative(*x, join(path, "inner_radius"));
         if (!(d.inner_radius < d.radius))
           fail(*x, join(path, "inner_radius"),
-               "must be less than \"radius\" (" + format_number(d.radius) + "; got " + format_number(d.inner_radius) + ")");
+               "must be less than \"radius\" (" + format_number(d.radius) + "; got " + format_number(d.inner_radius) +
+                   ")");
       }
       object = add_disk(scene_, d, material, transform);
       break;
     }
-    case 8:
-      object = read_polygon(v, path, material, transform);
-      break;
+    case 8: object = read_polygon(v, path, material, transform); break;
   }
   if (auto n = v.find("name")) scene_.object_names[object] = string(*n, join(path, "name"));
 }
@@ -224,10 +220,12 @@ uint32_t SceneReader::read_cone(const Value& v, const Path& path, bool cylinder,
 }
 
 // A polygon: checked and triangulated by make_polygon (geometry/polygon.h).
-uint32_t SceneReader::read_polygon(const Value& v, const Path& path, uint32_t material, const std::optional<Transform>& transform) {
+uint32_t SceneReader::read_polygon(const Value& v, const Path& path, uint32_t material,
+                                   const std::optional<Transform>& transform) {
   const Value verts = require(v, path, "vertices");
   const Path vp = join(path, "vertices");
-  if (!verts.is_array()) fail(verts, vp, std::string("expected an array of [x, y, z] vertices, got ") + verts.kind_name());
+  if (!verts.is_array())
+    fail(verts, vp, std::string("expected an array of [x, y, z] vertices, got ") + verts.kind_name());
   std::vector<Vec3> vertices;
   vertices.reserve(verts.size());
   for (size_t i = 0; i < verts.size(); ++i) vertices.push_back(vec3(verts[i], index(vp, i)));
@@ -236,10 +234,12 @@ uint32_t SceneReader::read_polygon(const Value& v, const Path& path, uint32_t ma
   const Path np = join(path, "normals");
   if (normals_value) {
     if (!normals_value->is_array())
-      fail(*normals_value, np, std::string("expected an array of [x, y, z] normals, got ") + normals_value->kind_name());
+      fail(*normals_value, np,
+           std::string("expected an array of [x, y, z] normals, got ") + normals_value->kind_name());
     if (normals_value->size() != verts.size())
-      fail(*normals_value, np, "expected one normal per vertex (" + std::to_string(verts.size()) + "), got " +
-                                   std::to_string(normals_value->size()));
+      fail(*normals_value, np,
+           "expected one normal per vertex (" + std::to_string(verts.size()) + "), got " +
+               std::to_string(normals_value->size()));
     normals.reserve(normals_value->size());
     for (size_t i = 0; i < normals_value->size(); ++i) normals.push_back(direction((*normals_value)[i], index(np, i)));
   }

@@ -15,8 +15,9 @@ namespace glint::loader {
 void SceneReader::read_render(const Value& r) {
   const Path path("render");
   expect_object(r, path);
-  check_keys(r, path, {"width", "height", "samples_per_pixel", "max_depth", "shading_model", "background", "epsilon",
-                       "pixel_filter", "adaptive"});
+  check_keys(r, path,
+             {"width", "height", "samples_per_pixel", "max_depth", "shading_model", "background", "epsilon",
+              "pixel_filter", "adaptive"});
   RenderSettings& s = scene_.render;
   if (auto v = r.find("width")) s.width = integer(*v, "render.width", 1, 1 << 20);
   if (auto v = r.find("height")) s.height = integer(*v, "render.height", 1, 1 << 20);
@@ -57,11 +58,13 @@ PixelFilter SceneReader::pixel_filter(const Value& v) const {
                                                         : Keys{"type", "radius", "b", "c"};
   for (size_t i = 0; i < v.size(); ++i)
     if (std::find(allowed.begin(), allowed.end(), v.key(i)) == allowed.end())
-      throw Error(v.key_location(i), path.str(), "key \"" + std::string(v.key(i)) + "\" does not apply to the " +
-                                         std::string(names[static_cast<size_t>(f.type)]) + " filter");
+      throw Error(v.key_location(i), path.str(),
+                  "key \"" + std::string(v.key(i)) + "\" does not apply to the " +
+                      std::string(names[static_cast<size_t>(f.type)]) + " filter");
   if (auto r = v.find("radius")) {
     f.radius = positive(*r, "render.pixel_filter.radius");
-    if (f.radius > kMaxFilterRadius) fail(*r, "render.pixel_filter.radius", "must be <= 16 (got " + format_number(f.radius) + ")");
+    if (f.radius > kMaxFilterRadius)
+      fail(*r, "render.pixel_filter.radius", "must be <= 16 (got " + format_number(f.radius) + ")");
   }
   if (auto x = v.find("sigma")) f.sigma = positive(*x, "render.pixel_filter.sigma");
   if (auto x = v.find("b")) f.b = unit_interval(*x, "render.pixel_filter.b");

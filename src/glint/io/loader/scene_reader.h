@@ -64,9 +64,8 @@ class Path {
 // path in the document (for messages) and returns checked data.
 class SceneReader {
  public:
-  SceneReader(const json::Document& doc, std::filesystem::path base_dir,
-              size_t memory_budget = default_memory_budget(), const AttachedMeshes* attached = nullptr,
-              FileCache* files = nullptr)
+  SceneReader(const json::Document& doc, std::filesystem::path base_dir, size_t memory_budget = default_memory_budget(),
+              const AttachedMeshes* attached = nullptr, FileCache* files = nullptr)
       : doc_(doc), base_dir_(std::move(base_dir)), attached_(attached), memory_budget_(memory_budget), files_(files) {}
 
   // With `errors`, problems are collected (one per material, light, object
@@ -113,10 +112,8 @@ class SceneReader {
       if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
       std::string what = "unknown key " + quote_text(key);
       const std::string hint = closest_match(key, allowed);
-      if (!hint.empty())
-        what += " (did you mean \"" + hint + "\"?)";
-      else
-        what += " (expected one of " + quoted_list(allowed) + ")";
+      if (!hint.empty()) what += " (did you mean \"" + hint + "\"?)";
+      else what += " (expected one of " + quoted_list(allowed) + ")";
       throw Error(obj.key_location(i), path.empty() ? std::string() : path.str(), what);
     }
   }
@@ -144,8 +141,7 @@ class SceneReader {
   }
   int integer(const Value& v, const Path& path, int lo, int hi) const {
     const double x = number(v, path);
-    if (!v.is_integer() || x != std::floor(x))
-      fail(v, path, "expected a whole number, got " + format_number(x));
+    if (!v.is_integer() || x != std::floor(x)) fail(v, path, "expected a whole number, got " + format_number(x));
     if (x < lo) fail(v, path, "must be >= " + std::to_string(lo) + " (got " + format_number(x) + ")");
     if (x > hi) fail(v, path, "must be <= " + std::to_string(hi) + " (got " + format_number(x) + ")");
     return static_cast<int>(x);
@@ -171,8 +167,9 @@ class SceneReader {
 
   Vec3 vec3(const Value& v, const Path& path) const {
     if (!v.is_array() || v.size() != 3)
-      fail(v, path, std::string("expected [x, y, z], got ") +
-                        (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
+      fail(v, path,
+           std::string("expected [x, y, z], got ") +
+               (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
     return {number(v[0], index(path, 0)), number(v[1], index(path, 1)), number(v[2], index(path, 2))};
   }
   // d / |d|, or nullopt for a zero (or non-finite) vector. Divides by the
@@ -197,8 +194,9 @@ class SceneReader {
     } else if (v.is_array() && v.size() == 3) {
       c = vec3(v, path);
     } else {
-      fail(v, path, std::string("expected a color ([r, g, b] or a number), got ") +
-                        (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
+      fail(v, path,
+           std::string("expected a color ([r, g, b] or a number), got ") +
+               (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
     }
     if (c.x < 0 || c.y < 0 || c.z < 0) fail(v, path, "color components must be >= 0");
     return c;
@@ -261,11 +259,11 @@ class SceneReader {
   std::filesystem::path base_dir_;
   const AttachedMeshes* attached_ = nullptr;
   std::vector<Error>* errors_ = nullptr;
-  std::map<std::string, uint32_t> mesh_index_;  // canonical path -> Scene::meshes
-  std::set<std::string> smooth_mesh_files_;      // canonical paths some object shades smoothly
+  std::map<std::string, uint32_t> mesh_index_;           // canonical path -> Scene::meshes
+  std::set<std::string> smooth_mesh_files_;              // canonical paths some object shades smoothly
   std::map<std::string, uint32_t> texture_image_index_;  // canonical path -> Scene::texture_images
   size_t memory_budget_;
-  FileCache* files_;  // or nullptr: read every file
+  FileCache* files_;                               // or nullptr: read every file
   size_t mesh_vertices_ = 0, mesh_triangles_ = 0;  // of every mesh file loaded
   Scene scene_;
   std::map<std::string, uint32_t, std::less<>> material_index_;

@@ -1,12 +1,12 @@
 #include "glint/io/mesh/assimp_import.h"
 
 #include <assimp/DefaultIOSystem.h>
-#include <assimp/DefaultLogger.hpp>
-#include <assimp/Importer.hpp>
-#include <assimp/LogStream.hpp>
 #include <assimp/MemoryIOWrapper.h>
 #include <assimp/material.h>
 #include <assimp/scene.h>
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
 
 #include <algorithm>
 #include <mutex>
@@ -77,8 +77,7 @@ std::vector<Instance> collect_instances(const aiScene& scene, const std::string&
   // small mesh beyond memory.
   const std::string excess =
       exceeds_budget(kBytesPerTriangle * static_cast<double>(triangles) + kBytesPerVertex * vertices, budget);
-  if (!excess.empty())
-    fail(file, plural(triangles, "triangle", "triangles") + " after instancing: that " + excess);
+  if (!excess.empty()) fail(file, plural(triangles, "triangle", "triangles") + " after instancing: that " + excess);
   raw.indices.reserve(3 * triangles);  // exact for triangle meshes
   raw.normals.reserve(3 * triangles);
   raw.triangle_material.reserve(triangles);
@@ -197,8 +196,8 @@ std::vector<Range> add_instances(const aiScene& scene, const std::vector<Instanc
 
 // PLY faces with fewer than 3 vertices are skipped with a warning; glTF
 // point and line primitives are simply not surfaces.
-void from_assimp(const aiScene& scene, const std::string& file, const fs::path& folder, bool is_ply,
-                 size_t budget, RawMesh& raw) {
+void from_assimp(const aiScene& scene, const std::string& file, const fs::path& folder, bool is_ply, size_t budget,
+                 RawMesh& raw) {
   const bool use_materials = !is_ply;
   const std::vector<Instance> instances = collect_instances(scene, file, budget, raw);
   if (use_materials) add_assimp_materials(scene, file, folder, raw);
@@ -206,8 +205,8 @@ void from_assimp(const aiScene& scene, const std::string& file, const fs::path& 
   if (!raw.has_normals) raw.normals.clear();
   if (!raw.has_uvs) raw.uvs.clear();
   raw.nonfinite_vertex_error = [file, ranges, &scene](uint32_t v) {
-    auto it = std::upper_bound(ranges.begin(), ranges.end(), size_t(v),
-                               [](size_t x, const Range& r) { return x < r.first; });
+    auto it =
+        std::upper_bound(ranges.begin(), ranges.end(), size_t(v), [](size_t x, const Range& r) { return x < r.first; });
     std::string where = "vertex " + std::to_string(v);
     if (it != ranges.begin()) {
       --it;
@@ -298,8 +297,7 @@ MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes, siz
                            plural(header.unknown_lines, "unknown PLY header line", "unknown PLY header lines"));
   if (header.format == PlyFormat::ascii) walk_ascii_ply(header, layout, data, file, raw.bad_vertex_text);
   else walk_binary_ply(header, layout, data, file);
-  if (layout.face < 0 || header.elements[layout.face].count == 0)
-    fail(file, "no triangles (vertices only)");
+  if (layout.face < 0 || header.elements[layout.face].count == 0) fail(file, "no triangles (vertices only)");
 
   AssimpLogCapture log;
   Assimp::Importer importer;
@@ -317,8 +315,8 @@ MeshFile load_ply(const std::string& file, std::vector<unsigned char> bytes, siz
   return finish(std::move(raw), file, vertex_normals);
 }
 
-MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes,
-                   bool binary, size_t budget, bool vertex_normals) {
+MeshFile load_gltf(const fs::path& path, const std::string& file, const std::vector<unsigned char>& bytes, bool binary,
+                   size_t budget, bool vertex_normals) {
   const std::string json_text = gltf_json_text(bytes, binary, file);
   {
     const json::Document doc = parse_gltf_json(json_text, binary, file);

@@ -19,9 +19,7 @@ std::string lower(std::string_view s) {
   return out;
 }
 
-std::string with_line(const std::string& file, int line) {
-  return line > 0 ? file + ":" + std::to_string(line) : file;
-}
+std::string with_line(const std::string& file, int line) { return line > 0 ? file + ":" + std::to_string(line) : file; }
 
 // Lists up to three names, then "and N more".
 std::string name_list(const std::vector<std::string>& names) {

@@ -22,9 +22,8 @@ double gltf_element_bytes(const json::Value& accessor) {
   const auto type = accessor.find("type");
   const auto component = accessor.find("componentType");
   if (!type || !type->is_string() || !component || !component->is_number()) return 0;
-  static const std::pair<std::string_view, int> kComponents[] = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3},
-                                                                  {"VEC4", 4},   {"MAT2", 4}, {"MAT3", 9},
-                                                                  {"MAT4", 16}};
+  static const std::pair<std::string_view, int> kComponents[] = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4},
+                                                                 {"MAT2", 4},   {"MAT3", 9}, {"MAT4", 16}};
   int components = 0;
   for (const auto& [name, n] : kComponents)
     if (type->as_string() == name) components = n;
@@ -133,9 +132,8 @@ std::string reduce_gltf_json(const std::string& text) {
       if (!image.is_object()) continue;
       // assimp reads a bufferView when there is no string uri.
       const auto uri = image.find("uri");
-      const bool embedded = uri != image.end() && uri->is_string()
-                                ? assimp_reads_as_data_uri(uri->get<std::string>())
-                                : image.contains("bufferView");
+      const bool embedded = uri != image.end() && uri->is_string() ? assimp_reads_as_data_uri(uri->get<std::string>())
+                                                                   : image.contains("bufferView");
       if (!embedded) continue;
       image.erase("bufferView");
       image.erase("mimeType");
@@ -162,7 +160,7 @@ std::string reduce_gltf_json(const std::string& text) {
         if (attributes == primitive.end() || !attributes->is_object()) continue;
         for (auto it = attributes->begin(); it != attributes->end();)
           it = it.key() == "POSITION" || it.key() == "NORMAL" || it.key() == "TEXCOORD_0" ? std::next(it)
-                                                                                         : attributes->erase(it);
+                                                                                          : attributes->erase(it);
       }
     }
   return j.dump(-1, ' ', false, NJson::error_handler_t::replace);
@@ -230,8 +228,8 @@ void check_gltf_memory(const json::Document& doc, bool binary, size_t budget, co
     if (!length || !length->is_number() || length->as_number() <= 0) continue;
     const std::string excess = exceeds_budget(length->as_number(), budget);
     if (!excess.empty())
-      throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " + format_count(length->as_number()) +
-                                      " bytes: that " + excess);
+      throw Error(where(*length), "buffers[" + std::to_string(i) +
+                                      "].byteLength: " + format_count(length->as_number()) + " bytes: that " + excess);
     accessor_bytes += length->as_number();
   }
   auto count_of = [&](const std::optional<json::Value>& index) {
@@ -277,8 +275,8 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
   const auto version = asset ? asset->find("version") : std::nullopt;
   if (!version || !version->is_string()) throw Error(where(root), "no asset.version: not a glTF 2.0 file");
   if (version->as_string().substr(0, 2) != "2.")
-    throw Error(where(*version), "asset.version: glTF " + std::string(version->as_string()) +
-                                     " is not supported (only glTF 2.0)");
+    throw Error(where(*version),
+                "asset.version: glTF " + std::string(version->as_string()) + " is not supported (only glTF 2.0)");
   const auto accessors = root.find("accessors");
   const auto views = root.find("bufferViews");
   const size_t view_count = views && views->is_array() ? views->size() : 0;
@@ -294,8 +292,9 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
     if (!a.is_object()) continue;  // assimp reports that one
     const double element = gltf_element_bytes(a);
     if (element == 0)
-      throw Error(where(a), name + ": needs a componentType of 5120, 5121, 5122, 5123, 5125 or 5126 and a type of "
-                                   "SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
+      throw Error(where(a), name +
+                                ": needs a componentType of 5120, 5121, 5122, 5123, 5125 or 5126 and a type of "
+                                "SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
     // The specification's bound on an accessor within its view, stride
     // included: assimp checks count x element size only, then reads strided
     // elements past the view, throws half-way and leaks (fuzz_mesh_glb).
@@ -313,8 +312,7 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
     if (!sparse) continue;
     auto bad_sparse = [&](const std::string& what) { throw Error(where(*sparse), name + ".sparse: " + what); };
     const auto count = sparse->is_object() ? gltf_index(*sparse, "count") : std::nullopt;
-    if (!count || *count < 1 || *count > gltf_count(a))
-      bad_sparse("needs a count from 1 to the accessor's count");
+    if (!count || *count < 1 || *count > gltf_count(a)) bad_sparse("needs a count from 1 to the accessor's count");
     const auto indices = sparse->find("indices"), values = sparse->find("values");
     if (!indices || !indices->is_object() || !values || !values->is_object())
       bad_sparse("needs 'indices' and 'values' objects");
@@ -353,9 +351,9 @@ void check_gltf_structure(const json::Document& doc, bool binary, const std::str
       if (fs::is_regular_file(bin, ec)) {
         const auto size = fs::file_size(bin, ec);
         if (!ec && double(size) < length->as_number())
-          throw Error(where(*length), "buffers[" + std::to_string(i) + "].byteLength: " +
-                                          format_count(length->as_number()) + " bytes, but '" + std::string(u) +
-                                          "' holds " + std::to_string(size));
+          throw Error(where(*length), "buffers[" + std::to_string(i) +
+                                          "].byteLength: " + format_count(length->as_number()) + " bytes, but '" +
+                                          std::string(u) + "' holds " + std::to_string(size));
       }
     }
   }

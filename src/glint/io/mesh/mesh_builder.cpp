@@ -30,8 +30,8 @@ void check_vertices(const RawMesh& raw, const std::string& file) {
   }
   for (uint32_t i : raw.indices)
     if (i >= vertex_count)
-      fail(file, "vertex index " + std::to_string(i) + " out of range (" + plural(vertex_count, "vertex", "vertices") +
-                     ")");
+      fail(file,
+           "vertex index " + std::to_string(i) + " out of range (" + plural(vertex_count, "vertex", "vertices") + ")");
 
   std::vector<uint8_t> used(vertex_count, 0);
   for (uint32_t i : raw.indices) used[i] = 1;

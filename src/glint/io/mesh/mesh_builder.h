@@ -23,10 +23,10 @@ struct BadVertexText {
 
 struct RawMesh {
   std::vector<Vec3f> positions;
-  std::vector<uint32_t> indices;        // 3 per triangle
-  std::vector<Vec3f> normals;           // 3 per triangle when has_normals; (0,0,0): none for that corner
+  std::vector<uint32_t> indices;  // 3 per triangle
+  std::vector<Vec3f> normals;     // 3 per triangle when has_normals; (0,0,0): none for that corner
   bool has_normals = false;
-  std::vector<UVf> uvs;                 // 3 per triangle when has_uvs; (0,0) for a corner without one
+  std::vector<UVf> uvs;  // 3 per triangle when has_uvs; (0,0) for a corner without one
   bool has_uvs = false;
   std::vector<int32_t> triangle_material;  // per triangle
   std::vector<Material> materials;
@@ -35,8 +35,8 @@ struct RawMesh {
   std::vector<BadVertexText> bad_vertex_text;
   // The error for a used vertex that is NaN/Inf in memory (file:line where known).
   std::function<Error(uint32_t vertex)> nonfinite_vertex_error;
-  size_t small_faces = 0;   // faces with fewer than 3 vertices (skipped)
-  size_t non_faces = 0;     // points and lines
+  size_t small_faces = 0;  // faces with fewer than 3 vertices (skipped)
+  size_t non_faces = 0;    // points and lines
 };
 
 // Splits a polygon of n corners into triangles of corner numbers: quads along

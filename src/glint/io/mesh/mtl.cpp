@@ -39,8 +39,9 @@ void check_mtl_numbers(std::string_view t, std::string_view key, int line, int o
       return;
     }
     const auto x = parse_number(tok.text);
-    if (!x) return report(tok.column, std::string(key) + " " + value + " is not a number" +
-                                          (color ? " (only r g b colors are read)" : ""));
+    if (!x)
+      return report(tok.column, std::string(key) + " " + value + " is not a number" +
+                                    (color ? " (only r g b colors are read)" : ""));
     if (!std::isfinite(*x)) return report(tok.column, std::string(key) + " " + value + " is not a finite number");
     if (color && *x < 0) return report(tok.column, std::string(key) + " " + value + ": color components must be >= 0");
   }

@@ -47,8 +47,8 @@ Material map_mtl(const tinyobj::material_t& t, const MtlBlock& b, MtlReport& rep
 class MtlReader : public tinyobj::MaterialReader {
  public:
   explicit MtlReader(std::filesystem::path folder) : folder_(std::move(folder)) {}
-  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
-                  std::map<std::string, int>* map, std::string* warn, std::string* err) override;
+  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials, std::map<std::string, int>* map,
+                  std::string* warn, std::string* err) override;
 
   struct Origin {
     std::filesystem::path mtl;

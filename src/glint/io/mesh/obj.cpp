@@ -106,8 +106,7 @@ std::vector<BadVertexText> parse_obj(std::string_view text, const std::string& f
     if (!ok) {
       const std::string first = obj.err.substr(0, obj.err.find('\n'));
       const int line = line_in_message(first);
-      if (first.find("`f'") != std::string::npos)
-        fail(file, "face with a vertex index of 0 or not a number", line);
+      if (first.find("`f'") != std::string::npos) fail(file, "face with a vertex index of 0 or not a number", line);
       if (first.find("`l'") != std::string::npos || first.find("`p'") != std::string::npos)
         fail(file, "line or point with a vertex index of 0 or not a number", line);
       fail(file, "cannot read OBJ: " + (first.empty() ? std::string("unknown error") : first), line);
@@ -158,8 +157,7 @@ void reserve_triangles(const ObjParse& obj, size_t budget, const std::string& fi
 }
 
 // The faces, triangulated, into `raw` (with their normals, UVs and materials).
-void add_obj_faces(const ObjParse& obj, const std::vector<size_t>& true_sizes, const std::string& file,
-                   RawMesh& raw) {
+void add_obj_faces(const ObjParse& obj, const std::vector<size_t>& true_sizes, const std::string& file, RawMesh& raw) {
   const tinyobj::attrib_t& attrib = obj.attrib;
   const size_t normal_count = attrib.normals.size() / 3;
   const size_t texcoord_count = attrib.texcoords.size() / 2;
@@ -191,17 +189,16 @@ void add_obj_faces(const ObjParse& obj, const std::vector<size_t>& true_sizes, c
             for (size_t k : {a, b, c}) {
               raw.indices.push_back(static_cast<uint32_t>(corner[k].vertex_index));
               const int ni = corner[k].normal_index;
-              raw.normals.push_back(ni >= 0 ? Vec3f{attrib.normals[3 * ni], attrib.normals[3 * ni + 1],
-                                                    attrib.normals[3 * ni + 2]}
-                                            : Vec3f{});
+              raw.normals.push_back(
+                  ni >= 0 ? Vec3f{attrib.normals[3 * ni], attrib.normals[3 * ni + 1], attrib.normals[3 * ni + 2]}
+                          : Vec3f{});
               if (ni >= 0) raw.has_normals = true;
               const int ti = corner[k].texcoord_index;
               raw.uvs.push_back(ti >= 0 ? UVf{attrib.texcoords[2 * ti], attrib.texcoords[2 * ti + 1]} : UVf{});
               if (ti >= 0) raw.has_uvs = true;
             }
-            raw.triangle_material.push_back(material >= 0 && static_cast<size_t>(material) < obj.materials.size()
-                                                ? material
-                                                : -1);
+            raw.triangle_material.push_back(
+                material >= 0 && static_cast<size_t>(material) < obj.materials.size() ? material : -1);
           });
     }
     if (bad_index) break;
@@ -213,8 +210,7 @@ void add_obj_faces(const ObjParse& obj, const std::vector<size_t>& true_sizes, c
 }
 
 // Missing material libraries, and usemtl names none of them has: one warning each.
-void warn_missing_materials(const ObjParse& obj, const MtlReader& mtl_reader, const std::string& file,
-                            RawMesh& raw) {
+void warn_missing_materials(const ObjParse& obj, const MtlReader& mtl_reader, const std::string& file, RawMesh& raw) {
   for (const std::string& name : mtl_reader.missing)
     raw.warnings.push_back(file + ": material library '" + name + "' not found (default materials used)");
   std::vector<std::string> unknown;
@@ -260,10 +256,9 @@ void add_mtl_textures(const tinyobj::material_t& t, const fs::path& mtl, MtlRepo
     raw.textures.push_back(std::move(mt));
   }
   for (const std::string* tex :
-       {&t.ambient_texname, &t.diffuse_texname, &t.specular_texname, &t.specular_highlight_texname,
-        &t.bump_texname, &t.displacement_texname, &t.alpha_texname, &t.reflection_texname,
-        &t.roughness_texname, &t.metallic_texname, &t.sheen_texname, &t.emissive_texname,
-        &t.normal_texname}) {
+       {&t.ambient_texname, &t.diffuse_texname, &t.specular_texname, &t.specular_highlight_texname, &t.bump_texname,
+        &t.displacement_texname, &t.alpha_texname, &t.reflection_texname, &t.roughness_texname, &t.metallic_texname,
+        &t.sheen_texname, &t.emissive_texname, &t.normal_texname}) {
     if (tex->empty()) continue;
     std::string relative = *tex;  // Windows exporters write '\\'
     std::replace(relative.begin(), relative.end(), '\\', '/');
@@ -289,8 +284,7 @@ void warn_mtl_findings(const fs::path& mtl, const MtlReport& r, RawMesh& raw) {
     raw.warnings.push_back(with_line(name, r.illum_unknown_line) + ": illum outside 0..10 read as 2 (" +
                            plural(r.illum_unknown, "material", "materials") + ")");
   if (!r.missing_textures.empty())
-    raw.warnings.push_back(name + ": " +
-                           plural(r.missing_textures.size(), "texture file", "texture files") +
+    raw.warnings.push_back(name + ": " + plural(r.missing_textures.size(), "texture file", "texture files") +
                            " not found (defaults used): " + name_list(r.missing_textures));
 }
 

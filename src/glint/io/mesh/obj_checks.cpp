@@ -145,7 +145,8 @@ TextProblem find_obj_bad_statement(std::string_view text) {
           if (resolved < 0 || resolved >= counts[k])
             return {lines.number(), column,
                     std::string(kIndexNames[k]) + " index " + std::string(index_text) + " out of range (" +
-                        (counts[k] == 1 ? "1 " + std::string(kIndexNames[k]) : std::to_string(counts[k]) + " " + kPlural[k]) +
+                        (counts[k] == 1 ? "1 " + std::string(kIndexNames[k])
+                                        : std::to_string(counts[k]) + " " + kPlural[k]) +
                         (*i < 0 ? " before it)" : ")")};
         }
         if (slash == std::string_view::npos) break;

@@ -5,28 +5,32 @@
 #include <cmath>
 #include <optional>
 
+#include "glint/io/memory_limit.h"
 #include "glint/io/mesh/common.h"
 #include "glint/io/mesh/text_scan.h"
-#include "glint/io/memory_limit.h"
 
 namespace glint::mesh_io {
 namespace {
 
 std::optional<PlyType> ply_type(std::string_view name) {
   static const std::pair<std::string_view, PlyType> kTypes[] = {
-      {"char", PlyType::i8},    {"int8", PlyType::i8},     {"uchar", PlyType::u8},   {"uint8", PlyType::u8},
-      {"short", PlyType::i16},  {"int16", PlyType::i16},   {"ushort", PlyType::u16}, {"uint16", PlyType::u16},
-      {"int", PlyType::i32},    {"int32", PlyType::i32},   {"uint", PlyType::u32},   {"uint32", PlyType::u32},
-      {"float", PlyType::f32},  {"float32", PlyType::f32}, {"double", PlyType::f64}, {"float64", PlyType::f64}};
+      {"char", PlyType::i8},   {"int8", PlyType::i8},     {"uchar", PlyType::u8},   {"uint8", PlyType::u8},
+      {"short", PlyType::i16}, {"int16", PlyType::i16},   {"ushort", PlyType::u16}, {"uint16", PlyType::u16},
+      {"int", PlyType::i32},   {"int32", PlyType::i32},   {"uint", PlyType::u32},   {"uint32", PlyType::u32},
+      {"float", PlyType::f32}, {"float32", PlyType::f32}, {"double", PlyType::f64}, {"float64", PlyType::f64}};
   for (const auto& [n, t] : kTypes)
     if (n == name) return t;
   return std::nullopt;
 }
 size_t ply_size(PlyType t) {
   switch (t) {
-    case PlyType::i8: case PlyType::u8: return 1;
-    case PlyType::i16: case PlyType::u16: return 2;
-    case PlyType::i32: case PlyType::u32: case PlyType::f32: return 4;
+    case PlyType::i8:
+    case PlyType::u8: return 1;
+    case PlyType::i16:
+    case PlyType::u16: return 2;
+    case PlyType::i32:
+    case PlyType::u32:
+    case PlyType::f32: return 4;
     case PlyType::f64: return 8;
   }
   return 1;
@@ -41,7 +45,8 @@ int64_t read_binary_int(const unsigned char* p, PlyType t, bool big_endian) {
     case PlyType::i8: return static_cast<int8_t>(u);
     case PlyType::i16: return static_cast<int16_t>(u);
     case PlyType::i32: return static_cast<int32_t>(u);
-    case PlyType::f32: case PlyType::f64: return 0;
+    case PlyType::f32:
+    case PlyType::f64: return 0;
     default: return static_cast<int64_t>(u);
   }
 }
@@ -290,15 +295,19 @@ void walk_ascii_ply(const PlyHeader& h, const PlyLayout& l, std::string_view dat
         const Token& count_token = need("a list length");
         const int64_t count = check_value(count_token, prop.count_type);
         if (count < 0 || static_cast<uint64_t>(count) > tok.size() - t)
-          fail(file, el.name + " " + std::to_string(r) + ": list length " + std::to_string(count) +
-                         " does not match the values on the line", n, count_token.column);
+          fail(file,
+               el.name + " " + std::to_string(r) + ": list length " + std::to_string(count) +
+                   " does not match the values on the line",
+               n, count_token.column);
         const bool indices = static_cast<int>(e) == l.face && static_cast<int>(k) == l.face_list;
         for (int64_t i = 0; i < count; ++i) {
           const Token& v = tok[t++];
           const int64_t index = check_value(v, prop.type);
           if (indices && (ply_is_float(prop.type) || index < 0 || static_cast<uint64_t>(index) >= vertices))
-            fail(file, "vertex index " + std::string(v.text) + " out of range (" +
-                           plural(vertices, "vertex", "vertices") + ")", n, v.column);
+            fail(file,
+                 "vertex index " + std::string(v.text) + " out of range (" + plural(vertices, "vertex", "vertices") +
+                     ")",
+                 n, v.column);
         }
       }
       // One record per line: assimp reads the values as one stream, so

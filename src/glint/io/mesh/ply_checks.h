@@ -20,8 +20,8 @@ enum class PlyType { i8, u8, i16, u16, i32, u32, f32, f64 };
 struct PlyProperty {
   std::string name;
   bool list = false;
-  PlyType type = PlyType::f32;        // scalar, or list items
-  PlyType count_type = PlyType::u8;   // list
+  PlyType type = PlyType::f32;       // scalar, or list items
+  PlyType count_type = PlyType::u8;  // list
 };
 struct PlyElement {
   std::string name;
@@ -33,8 +33,8 @@ enum class PlyFormat { ascii, binary_le, binary_be };
 struct PlyHeader {
   PlyFormat format = PlyFormat::ascii;
   std::vector<PlyElement> elements;
-  size_t body = 0;       // byte offset of the data
-  int body_line = 0;     // line number of the data's first line
+  size_t body = 0;    // byte offset of the data
+  int body_line = 0;  // line number of the data's first line
   size_t unknown_lines = 0;
   int unknown_line = 0;  // the first
 };

@@ -49,12 +49,12 @@ enum class Shape : uint8_t { sphere, cylinder, cone, polygon };
 
 struct Object {
   Shape shape = Shape::sphere;
-  bool normals = false;      // polygon: `pp`
-  uint32_t material = 0;     // 0: none (before the first `f`), else materials[material - 1]
-  uint32_t first = 0;        // its numbers start at Parts::numbers[first]:
-  uint32_t vertices = 0;     //   sphere: center, radius; cylinder: base, apex, radius;
-  Where at;                  //   cone: base, apex, base radius, apex radius;
-};                           //   polygon: `vertices` points, then as many normals for `pp`
+  bool normals = false;   // polygon: `pp`
+  uint32_t material = 0;  // 0: none (before the first `f`), else materials[material - 1]
+  uint32_t first = 0;     // its numbers start at Parts::numbers[first]:
+  uint32_t vertices = 0;  //   sphere: center, radius; cylinder: base, apex, radius;
+  Where at;               //   cone: base, apex, base radius, apex radius;
+};                        //   polygon: `vertices` points, then as many normals for `pp`
 
 struct Parts {
   std::string filename;
@@ -76,7 +76,6 @@ inline const char* entity_of(const Object& o) {
   }
   return "";
 }
-
 
 // Reads one NFF file's text; the first problem is thrown as an Error at its
 // file:line:col.

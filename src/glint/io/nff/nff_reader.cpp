@@ -120,7 +120,6 @@ std::optional<Vec3> unit(const Vec3& d) {
   return s / length(s);
 }
 
-
 Where where(const Token& t) { return {t.line, t.column}; }
 
 // One NFF file, read entity by entity into Parts.
@@ -146,8 +145,7 @@ class NffReader {
       else if (looks_numeric(kw))
         fail(*t, "expected an entity (v, b, l, f, c, s, p or pp), got the number " + quoted(kw) +
                      " (more numbers than the entity before it takes?)");
-      else
-        fail(*t, "unknown entity " + quoted(kw) + " (expected v, b, l, f, c, s, p or pp)");
+      else fail(*t, "unknown entity " + quoted(kw) + " (expected v, b, l, f, c, s, p or pp)");
     }
     if (!has_view_) fail(lex_.end(), "no view: an NFF file needs a \"v\" entity (the camera)");
     return std::move(parts_);
@@ -249,7 +247,8 @@ class NffReader {
     const auto height = static_cast<int>(whole(v, "resolution height", 1, kMaxResolution));
 
     if (!(angle > 0 && angle < 180))
-      fail(angle_value, "v: angle must be between 0 and 180 degrees, exclusive (got " + printable(angle_value.text) + ")");
+      fail(angle_value,
+           "v: angle must be between 0 and 180 degrees, exclusive (got " + printable(angle_value.text) + ")");
     if (at == from) fail(at_t, "v: \"at\" must differ from \"from\" (the view needs a direction)");
     const std::optional<Vec3> forward = unit(at - from);
     if (!forward) fail(at_t, "v: \"at\" is too far from \"from\" (the distance overflows)");
@@ -368,8 +367,7 @@ class NffReader {
       const std::optional<Token>& next = lex_.peek();
       static constexpr const char* kAxis[] = {" x", " y", " z"};
       if (!next || !is_plain_number(next->text, v[axis])) {
-        const std::string name =
-            "vertex " + std::to_string(i + 1) + " of " + std::to_string(n) + what + kAxis[axis];
+        const std::string name = "vertex " + std::to_string(i + 1) + " of " + std::to_string(n) + what + kAxis[axis];
         v[axis] = number(p, name.c_str());  // fails with the message
       } else {
         lex_.next();
@@ -388,7 +386,7 @@ class NffReader {
   Lexer lex_;
   Parts parts_;
   bool has_view_ = false;
-  uint32_t material_ = 0;  // the current `f` (1-based), 0 before the first
+  uint32_t material_ = 0;        // the current `f` (1-based), 0 before the first
   std::vector<double> normals_;  // a `pp`'s normals while its vertices are read
 };
 
@@ -419,7 +417,8 @@ std::pair<std::string, NffOrigin> origin_of(const Parts& parts, Section section,
     case Section::material:
       return {"materials." + material_name(static_cast<uint32_t>(index + 1)), at("f", parts.materials[index].at)};
     case Section::light:  // the ambient light, last, comes from the first `l`
-      return {"lights[" + std::to_string(index) + "]", at("l", parts.lights[index < parts.lights.size() ? index : 0].at)};
+      return {"lights[" + std::to_string(index) + "]",
+              at("l", parts.lights[index < parts.lights.size() ? index : 0].at)};
     case Section::object:
       return {"objects[" + std::to_string(index) + "]", at(entity_of(parts.objects[index]), parts.objects[index].at)};
     case Section::none: break;
