@@ -410,6 +410,30 @@ TEST_F(ServeServer, SaveAsNewNeverWritesWhereTheRequestSays) {
   EXPECT_EQ(listing().size(), 3u);
 }
 
+TEST_F(ServeServer, SavingOverTheFileRendersNothingAgain) {
+  Server& server = start(scene_);
+  EventStream tab(port_, host_);  // a tab open: changes are rendered
+  ASSERT_TRUE(tab.read_until("event: frame"));
+  ASSERT_EQ(post("/api/edit", R"({"edits":[{"op":"set","path":"materials.red.shininess","value":7}]})").status, 200);
+  ASSERT_TRUE(settled());
+  const ServerStats before = server.stats();
+  ASSERT_EQ(post("/api/save", R"({"mode":"overwrite"})").status, 200);
+  // The watcher reads the saved file: it holds what is on screen.
+  ASSERT_TRUE(wait([&](const ServerStats& s) { return s.reloads > before.reloads; }));
+  const ServerStats after = server.stats();
+  EXPECT_EQ(after.scene_version, before.scene_version);
+  EXPECT_EQ(after.renders, before.renders);
+  EXPECT_EQ(state()["dirty"], false);
+  // A change of the file that does change the scene is rendered.
+  Json doc = Json::parse(std::ifstream(scene_));
+  doc["materials"]["red"]["shininess"] = 9;
+  write(scene_, doc.dump(2));
+  ASSERT_TRUE(wait([&](const ServerStats& s) { return s.scene_version > after.scene_version; }));
+  ASSERT_TRUE(settled());
+  EXPECT_GT(server.stats().renders, after.renders);
+  EXPECT_EQ(state()["scene"]["materials"]["red"]["shininess"], 9);
+}
+
 TEST_F(ServeServer, AModelIsSavedAsANewSceneOnly) {
   const fs::path model = dir_ / "model.obj";
   write(model, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");

@@ -400,7 +400,7 @@ test('save over the file and as a new file: glint render gives the image on scre
   await page.click('#save');  // the dialog is accepted
   await until(page, () => !window.glintPreview.state.dirty && /saved scene\.json/.test(window.glintPreview.state.notice));
   assert.equal(JSON.parse(fs.readFileSync(scenePath, 'utf8')).materials.red.shininess, 7);
-  // (the watcher sees the saved file and renders it again: the same image)
+  // (the watcher sees the saved file: it holds what is on screen, so no frame is rendered again)
   await settled(page, { dirty: false });
   assert.equal(await diffWithPng(glintRender(scenePath)), 0);
   await page.click('#save-new');

@@ -32,6 +32,7 @@ struct ServerStats {
   uint64_t full_frame_scene_version = 0;  // the scene version the newest full frame shows
   uint64_t file_reads = 0;                // mesh and texture files read from disk (not from the cache)
   int builds = 0;                         // acceleration structures built: only when the geometry changed
+  uint64_t reloads = 0;                   // times the watcher read the scene file again (after a change on disk)
 };
 
 // One preview server. The constructor loads the scene and binds the port

@@ -260,8 +260,24 @@ void Server::Impl::reload(const std::vector<fs::path>& changed) {
   try {
     Scene fresh = api::load_scene_with(path, files);
     std::lock_guard lock(session.mutex);
-    session.error_.clear();
+    ++session.reloads_;
     const std::string document = fresh.to_json();
+    // Only the scene file changed, and it says what is on screen (our own
+    // Save, or an editor writing the same text): nothing to render again.
+    const bool only_scene_file =
+        std::all_of(changed.begin(), changed.end(), [&](const fs::path& f) { return f == path; });
+    if (only_scene_file && !session.dirty_ && document == session.scene_.to_json()) {
+      session.file_scene_ = fresh;
+      session.conflict_.reset();
+      if (!session.error_.empty()) {
+        session.error_.clear();
+        session.bump(false);
+      } else {
+        session.changed.notify_all();  // for wait_until: the reload is done
+      }
+      return;
+    }
+    session.error_.clear();
     if (!session.dirty_ || document == session.scene_.to_json()) {
       session.scene_ = fresh;
       session.dirty_ = false;
@@ -278,6 +294,7 @@ void Server::Impl::reload(const std::vector<fs::path>& changed) {
     scene_changed();
   } catch (const std::exception& e) {
     std::lock_guard lock(session.mutex);
+    ++session.reloads_;
     session.error_ = std::string("error: ") + e.what();
     session.bump(false);
   }

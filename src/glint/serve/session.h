@@ -93,7 +93,8 @@ class Session {
   uint64_t full_frames_ = 0;
   uint64_t full_frame_scene_version_ = 0;
   uint64_t renders_ = 0;
-  int builds_ = 0;  // acceleration structures built (the worker's Renderer)
+  int builds_ = 0;        // acceleration structures built (the worker's Renderer)
+  uint64_t reloads_ = 0;  // times the watcher read the scene file again
   bool rendering_ = false;
   int streams_ = 0;              // open event streams (visible tabs)
   std::set<int> stream_wakers_;  // their eventfds: a stream sleeps in poll() on its own and its socket
@@ -155,6 +156,7 @@ class Session {
     s.full_frame_scene_version = full_frame_scene_version_;
     s.file_reads = file_reads;
     s.builds = builds_;
+    s.reloads = reloads_;
     return s;
   }
 
@@ -182,7 +184,8 @@ class Session {
                   {"frames", stats.frames},
                   {"full_frames", stats.full_frames},
                   {"file_reads", stats.file_reads},
-                  {"builds", stats.builds}};
+                  {"builds", stats.builds},
+                  {"reloads", stats.reloads}};
     return s;
   }
 };
