@@ -3,9 +3,14 @@
 
     bench/spd-vs-povray.py GLINT_BINARY [SCENE.nff ...] [options]
     e.g. bench/spd-vs-povray.py build/glint          (bench/spd/balls.nff and tetra.nff)
+         bench/spd-vs-povray.py build/glint --stand-ins --flake-depths ''
+                        (balls, tetra, then our stand-ins for gears, mount, rings, teapot, tree)
 
 Each SCENE.nff needs the SPD's own POV-Ray export of the same scene beside it,
-SCENE.pov. For each scene, glint and POV-Ray take turns, --runs times each:
+SCENE.pov. --stand-ins [NAMES] also writes bench/spd_scenes.py's stand-ins
+for the SPD scenes we do not have (each an .nff and a .pov in the export's
+style; default all five) into the temporary folder and times them after the
+others. For each scene, glint and POV-Ray take turns, --runs times each:
 
     GLINT render SCENE.nff --width 512 --height 512 --spp 1 --max-depth 5
           --threads T -o OUT.png --stats-json STATS.json
@@ -42,6 +47,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_SCENES = [os.path.join(HERE, "spd", "balls.nff"), os.path.join(HERE, "spd", "tetra.nff")]
 SIZE = 512
+STAND_INS = "gears,mount,rings,teapot,tree"
 
 
 def run_glint(glint, scene, threads, tmp):
@@ -103,25 +109,26 @@ def compare(args, tmp):
             g.append(run_glint(args.glint, scene, args.threads, tmp))
             if not args.no_povray:
                 p.append(run_povray(pov, args.threads, tmp, home))
-        rows.append((name, g, p))
+        rows.append((name, g, p, load_average()))
     print("SPD scenes, %dx%d, 1 spp, max depth 5, %d threads; median of %d runs each, glint and POV-Ray taking turns"
           % (SIZE, SIZE, args.threads, args.runs))
     print("load = glint load+build / POV-Ray parse+bounding; trace = glint render / POV-Ray trace; wall = process start to exit")
-    hdr = "%-8s %9s %9s %9s %9s | %9s %9s %9s | %8s %8s" % (
-        "scene", "glint ld", "trace", "write", "wall", "pov ld", "trace", "wall", "trace x", "wall x")
+    print("load avg = the 1-minute load average after the scene's runs (other processes slow both programs)")
+    hdr = "%-8s %9s %9s %9s %9s | %9s %9s %9s | %8s %8s | %8s" % (
+        "scene", "glint ld", "trace", "write", "wall", "pov ld", "trace", "wall", "trace x", "wall x", "load avg")
     print(hdr)
     logs = []
-    for name, g, p in rows:
+    for name, g, p, load in rows:
         line = "%-8s %9.3f %9.3f %9.3f %9.3f" % (name, med(g, "load"), med(g, "trace"), med(g, "write"), med(g, "wall"))
         if p:
             ratio = med(p, "wall") / med(g, "wall")
             logs.append(math.log(ratio))
             line += " | %9.3f %9.3f %9.3f | %7.2fx %7.2fx" % (
                 med(p, "load"), med(p, "trace"), med(p, "wall"), med(p, "trace") / med(g, "trace"), ratio)
-        print(line)
+        print(line + " | %8s" % load)
     if logs:
         print("geometric mean of the wall-time ratios (POV-Ray / glint): %.2fx" % math.exp(sum(logs) / len(logs)))
-    for name, g, _ in rows:
+    for name, g, _, _ in rows:
         r = g[0]["stats"]["rays"]
         print("%s rays (glint, 512x512): camera %d, camera hits %d, reflection %d, refraction %d, shadow %d, total %d"
               % (name, r["camera"], r["camera_hits"], r["reflection"], r["refraction"], r["shadow"], r["total"]))
@@ -161,6 +168,18 @@ def flakes(args, tmp):
         print(line)
 
 
+def load_average():
+    return open("/proc/loadavg").read().split()[0]
+
+
+def write_stand_ins(names, tmp):
+    """bench/spd_scenes.py's stand-ins, NAME.nff and NAME.pov, into tmp/stand-ins; their .nff paths."""
+    folder = os.path.join(tmp, "stand-ins")
+    subprocess.run([sys.executable, os.path.join(HERE, "spd_scenes.py"), folder, "--scenes", ",".join(names)],
+                   check=True, stdout=subprocess.DEVNULL)
+    return [os.path.join(folder, n + ".nff") for n in names]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__.split("\n\n", 2)[2])
@@ -169,6 +188,8 @@ def main():
     ap.add_argument("--runs", type=int, default=5, help="runs of each program per scene (default 5)")
     ap.add_argument("--threads", type=int, default=2, help="threads for both programs (default 2)")
     ap.add_argument("--no-povray", action="store_true", help="time glint alone")
+    ap.add_argument("--stand-ins", nargs="?", const=STAND_INS, default="", metavar="NAMES",
+                    help="also time bench/spd_scenes.py's stand-ins (comma separated; default %s)" % STAND_INS)
     ap.add_argument("--flake-depths", default="2,3,4,5,6",
                     help="sphereflake depths, comma separated, '' for none (default 2,3,4,5,6: 91 to 597,871 spheres)")
     ap.add_argument("--flake-threads", default="1,2", help="thread counts for the sphereflakes (default 1,2)")
@@ -185,12 +206,18 @@ def main():
             sys.exit("error: need %s beside it" % (os.path.splitext(s)[0] + ".pov"))
     if not args.no_povray and shutil.which("povray") is None:
         sys.exit("error: povray not found (Debian: apt-get install povray)")
+    stand_ins = [n for n in args.stand_ins.split(",") if n]
+    for n in stand_ins:
+        if n not in STAND_INS.split(","):
+            sys.exit("error: unknown stand-in %r (expected some of %s)" % (n, STAND_INS))
     if args.runs < 1 or args.flake_runs < 1:
         sys.exit("error: --runs and --flake-runs must be at least 1")
     print("machine load before the runs: %s" % open("/proc/loadavg").read().split()[:3], file=sys.stderr)
     # under /tmp: POV-Ray's default I/O security settings let it write there
     tmp = tempfile.mkdtemp(prefix="spd-vs-povray.", dir="/tmp")
     try:
+        if stand_ins:
+            args.scenes += write_stand_ins(stand_ins, tmp)
         if args.scenes:
             compare(args, tmp)
         if args.flake_depths:
