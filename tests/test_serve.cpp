@@ -25,6 +25,7 @@
 #include "glint/glint.h"
 #include "glint/serve/rules.h"
 #include "glint/serve/serve.h"
+#include "glint/serve/session.h"
 
 namespace {
 
@@ -35,6 +36,43 @@ using glint::serve::ServerStats;
 using namespace std::chrono_literals;
 
 // --- the rules, as functions -------------------------------------------------
+
+// Undo keeps the newest steps that fit its byte budget: each step holds its
+// own copy of the meshes.
+TEST(ServeUndo, StepsAreBoundByTheirMeshBytes) {
+  const fs::path dir = fs::temp_directory_path() / ("glint-serve-undo-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "tri.obj") << "v -1 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
+  const std::string scene_text = R"({"camera":{"position":[0,0,4],"look_at":[0,0,0]},
+    "materials":{"m":{"diffuse":[0.5,0.5,0.5],"shininess":1}},
+    "objects":[{"type":"mesh","file":"tri.obj","material":"m"}]})";
+  glint::api::Scene scene = glint::api::Scene::from_json(scene_text, dir, "undo.json");
+  const size_t bytes = glint::serve::scene_bytes(scene);
+  // 4 positions, 6 indices, 6 corner normals, 2 triangle materials.
+  EXPECT_EQ(bytes, 4 * 12 + 6 * 4 + 6 * 12 + 2 * 4);
+  std::vector<glint::api::Scene> steps;
+  for (int k = 1; k <= 5; ++k) {
+    scene.set("materials.m.shininess", k);
+    steps.push_back(scene);
+  }
+  auto shininess = [](const glint::api::Scene& s) {
+    return Json::parse(s.to_json())["materials"]["m"]["shininess"].get<int>();
+  };
+  std::vector<glint::api::Scene> a = steps;
+  glint::serve::trim_undo(a, 200, bytes * 5 / 2);  // two steps fit
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(shininess(a[0]), 4);
+  EXPECT_EQ(shininess(a[1]), 5);
+  std::vector<glint::api::Scene> b = steps;
+  glint::serve::trim_undo(b, 3, bytes * 100);  // the step limit
+  ASSERT_EQ(b.size(), 3u);
+  EXPECT_EQ(shininess(b[0]), 3);
+  std::vector<glint::api::Scene> c = steps;
+  glint::serve::trim_undo(c, 200, 0);  // the newest stays, whatever its size
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(shininess(c[0]), 5);
+  fs::remove_all(dir);
+}
 
 TEST(ServeRules, IpLiterals) {
   for (const char* yes : {"127.0.0.1", "10.1.2.3", "[::1]", "[::ffff:127.0.0.1]", "[fe80::1]"})

@@ -30,8 +30,34 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using api::Scene;
 
-// Undo steps kept.
+// Undo steps kept: at most kUndoLimit, and no more than fit kUndoBytes of
+// mesh and texture data (each step holds the scene it shows, its meshes
+// included: 200 steps of a 1M-triangle model would hold 20 GB).
 inline constexpr size_t kUndoLimit = 200;
+inline constexpr size_t kUndoBytes = size_t{1} << 30;
+
+// The bytes of a scene's meshes and texture images (what dominates it).
+inline size_t scene_bytes(const Scene& scene) {
+  const glint::Scene& s = *scene.state()->scene;
+  size_t bytes = 0;
+  for (const Mesh& m : s.meshes)
+    bytes += m.positions.size() * sizeof(Vec3f) + m.indices.size() * sizeof(uint32_t) +
+             m.corner_normals.size() * sizeof(Vec3f) + m.triangle_material.size() * sizeof(uint32_t) +
+             m.corner_uvs.size() * sizeof(UVf);
+  for (const TextureImage& t : s.texture_images) bytes += t.texels.size() * sizeof(Vec3f);
+  return bytes;
+}
+
+// Drops the oldest steps until at most max_steps are left and they hold at
+// most max_bytes (the newest step always stays).
+inline void trim_undo(std::vector<Scene>& steps, size_t max_steps, size_t max_bytes) {
+  size_t bytes = 0, keep = 0;
+  for (auto it = steps.rbegin(); it != steps.rend() && keep < max_steps; ++it, ++keep) {
+    bytes += scene_bytes(*it);
+    if (keep > 0 && bytes > max_bytes) break;
+  }
+  steps.erase(steps.begin(), steps.end() - static_cast<std::ptrdiff_t>(keep));
+}
 
 struct View {
   double exposure = 0;
@@ -127,7 +153,7 @@ class Session {
                            now - coalesce_time_ < std::chrono::seconds(2) && !undo_.empty();
     if (!same_drag) {
       undo_.push_back(scene_);
-      if (undo_.size() > kUndoLimit) undo_.erase(undo_.begin());
+      trim_undo(undo_, kUndoLimit, kUndoBytes);
     }
     coalesce_key_ = coalesce_key;
     coalesce_time_ = now;
