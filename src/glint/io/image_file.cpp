@@ -170,10 +170,9 @@ void png_fail(png_structp png, png_const_charp message) {
 }
 void png_ignore_warning(png_structp, png_const_charp) {}
 
-// libpng at zlib level 1 with the Up filter: measured 7x faster than
-// stb_image_write on a 1080p render, files ~40% larger (see README). Run
-// lengths only (Z_RLE): deflate a third faster on detailed renders (files 2%
-// larger), as fast on mostly flat ones (files up to 40% larger).
+// libpng at zlib level 1, the Up filter and run lengths only (Z_RLE): a
+// render's PNG is written for speed, not size (stb_image_write was several
+// times slower; docs/performance.md).
 Bytes encode_png(const Image& image, const WriteOptions& options) {
   const Bytes pixels = pixels8(image, options);
   PngSink sink;

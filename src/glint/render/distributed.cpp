@@ -63,11 +63,9 @@ std::vector<char> int_bytes(const std::vector<int>& values) {
   return bytes;
 }
 
-// Messages sent without waiting for the receiver. A blocking MPI_Send of a
-// tile's pixels returns only once rank 0 has taken them (Open MPI's
-// shared-memory transport gets the sender's buffer back then), and until
-// then it spins: measured, a quarter of rank 1's core went to that while
-// rank 0's main thread slept between polls. Every message here is bytes
+// Messages sent without waiting for the receiver: a blocking MPI_Send of a
+// tile's pixels spins until rank 0 takes them, which costs a worker's core
+// (docs/performance.md, "Tried and dropped"). Every message here is bytes
 // (MPI_BYTE on both sides).
 class Outbox {
  public:
@@ -193,9 +191,8 @@ void maybe_fail(const FaultInjection& faults, int rank, int finished) {
 // Waits until a local item finishes (workers wake us), or up to `pause` so
 // that messages from other ranks are polled. The pause doubles while no
 // message comes (1 ms to 4 ms): each poll takes the core from a worker, and
-// QueueDepth keeps enough tiles queued to cover the round trips. (With 0.25
-// to 2 ms the main threads used twice the CPU, 0.02-0.03 s per rank in a
-// 0.6 s showcase render, for no faster render.)
+// QueueDepth keeps enough tiles queued to cover the round trips; shorter
+// pauses cost CPU and rendered no faster.
 constexpr auto kMinPause = std::chrono::microseconds(1000), kMaxPause = std::chrono::microseconds(4000);
 void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, bool heard) {
   pause = heard ? kMinPause : std::min(pause * 2, kMaxPause);
@@ -205,11 +202,9 @@ void pause_until_progress(LocalWork& work, std::chrono::microseconds& pause, boo
 
 // How many items a rank keeps queued or in work: at least `least`, more when
 // items go fast, so that its workers stay busy for a few round trips to rank
-// 0. Measured on the 2-core machine (showcase, 2 ranks x 1 thread): a request
-// took 2.6 ms on average to be answered, up to 20 ms (rank 0's main thread
-// shares a core with its worker and then polled every 0.25-2 ms), while a run of
-// background tiles takes 0.1 ms each: with a fixed 8 tiles queued, rank 1's
-// worker waited for tiles 7-17% of the render.
+// 0: a request can take milliseconds to be answered (rank 0's main thread
+// shares a core with a worker) while a tile of background takes 0.1 ms, so
+// a fixed queue left workers waiting (docs/performance.md).
 class QueueDepth {
  public:
   QueueDepth(int least, int most) : least_(least), most_(std::max(least, most)) {}
