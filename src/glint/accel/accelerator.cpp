@@ -396,26 +396,32 @@ class BvhAccelerator final : public Accelerator {
   bool occluded_cached(const Ray& ray, uint32_t& cache) const override {
     // Any blocker answers an any-hit query, so the cached one, when it
     // blocks, gives the same answer as the traversal.
+    // When it does not, the traversal skips it: a mesh would otherwise be
+    // traversed twice for every unblocked ray.
     if (cache != kNoShadowBlocker && cache < scene_.objects.size() && occludes_object(scene_, cache, ray, &mesh_bvhs_))
       return true;
-    const std::optional<uint32_t> blocker = first_blocker(ray);
+    const std::optional<uint32_t> blocker = first_blocker_except(ray, cache);
     if (blocker) cache = *blocker;
     return blocker.has_value();
   }
 
-  std::optional<uint32_t> first_blocker(const Ray& ray) const override {
+  std::optional<uint32_t> first_blocker(const Ray& ray) const override { return first_blocker_except(ray, kNone); }
+
+  // The first object found to block the ray, leaving out `skip` (known not to).
+  std::optional<uint32_t> first_blocker_except(const Ray& ray, uint32_t skip) const {
     for (uint32_t p : planes_)
-      if (occludes_object(scene_, p, ray)) return p;
+      if (p != skip && occludes_object(scene_, p, ray)) return p;
     if (single_mesh_ != kNone)
-      return occludes_object(scene_, single_mesh_, ray, &mesh_bvhs_) ? std::optional<uint32_t>(single_mesh_)
-                                                                     : std::nullopt;
+      return single_mesh_ != skip && occludes_object(scene_, single_mesh_, ray, &mesh_bvhs_)
+                 ? std::optional<uint32_t>(single_mesh_)
+                 : std::nullopt;
     std::optional<uint32_t> blocker;
     traverse_any_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, const Ray& r) {
       if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
         for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
           const uint32_t object =
               slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
-          if (occludes_object(scene_, object, r, &mesh_bvhs_)) {
+          if (object != skip && occludes_object(scene_, object, r, &mesh_bvhs_)) {
             blocker = object;
             return true;
           }
@@ -424,8 +430,8 @@ class BvhAccelerator final : public Accelerator {
       }
       for (uint32_t i = first; i < first + count; ++i) {
         const Slot& slot = slots_[i];
-        if (slot.is_sphere ? intersect_sphere(slot.sphere, r).has_value()
-                           : occludes_object(scene_, slot.object, r, &mesh_bvhs_)) {
+        if (slot.object != skip && (slot.is_sphere ? intersect_sphere(slot.sphere, r).has_value()
+                                                   : occludes_object(scene_, slot.object, r, &mesh_bvhs_))) {
           blocker = slot.object;
           return true;
         }
