@@ -440,7 +440,12 @@ void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, 
   shadow.t_min = 0.0;
   shadow.t_max = s.shadow_t_max;
   ctx.stats.shadow++;
-  if (rec.blocked(accel_, shadow, s.light < ctx.shadow_cache.size() ? &ctx.shadow_cache[s.light] : nullptr)) return;
+  // The shadow cache serves point, spot and directional lights; an area
+  // light's samples spread over its surface and mostly pass the last blocker
+  // by (with the cache, a soft-shadow scene rendered 12% slower).
+  uint32_t* cache =
+      light.type != LightType::area && s.light < ctx.shadow_cache.size() ? &ctx.shadow_cache[s.light] : nullptr;
+  if (rec.blocked(accel_, shadow, cache)) return;
 
   const Material& m = scene_.materials[at.sp.material];
   const Reflectances& r = at.sp.reflectance;
