@@ -31,8 +31,9 @@
 #include <vector>
 
 #include "glint/accel/accelerator.h"
-#include "glint/accel/bvh.h"
 #include "glint/accel/mesh_bvh.h"
+#include "glint/accel/ray_packets.h"
+#include "glint/accel/wide_bvh.h"
 #include "glint/render/camera.h"
 #include "glint/scene/scene.h"
 

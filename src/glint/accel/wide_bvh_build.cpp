@@ -1,4 +1,6 @@
-#include "glint/accel/bvh.h"
+// The wide BVH's build (wide_bvh.h): binned SAH into a binary tree, then
+// collapsed into nodes of kBvhWidth children.
+#include "glint/accel/wide_bvh.h"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +12,7 @@ namespace glint {
 namespace {
 
 constexpr int kBins = 16;
-constexpr int kMaxDepth = 60;  // bounds the traversal stack (see bvh.h)
+constexpr int kMaxDepth = 60;  // bounds the traversal stack (see wide_bvh.h)
 constexpr size_t kParallelMinPrimitives = 4096;
 
 // Float boxes with SSE min/max; lane 3 is unused. Rounded outward from the

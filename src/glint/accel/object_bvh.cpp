@@ -1,9 +1,15 @@
+// The top-level accelerator (BvhAccelerator): one wide BVH over the scene's
+// objects, a mesh's own BVH (mesh_bvh.h) below each mesh object, infinite
+// planes tested apart; and the hit tests of one object, which live here
+// because this traversal is their hot caller.
 #include "glint/accel/accelerator.h"
 
 #include <optional>
 
-#include "glint/accel/bvh.h"
 #include "glint/accel/mesh_bvh.h"
+#include "glint/accel/ray_packets.h"
+#include "glint/accel/triangle_leaf.h"
+#include "glint/accel/wide_bvh.h"
 #include "glint/geometry/shapes.h"
 #include "glint/geometry/triangle_shear.h"
 
@@ -158,65 +164,6 @@ bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, c
 }
 
 namespace {
-
-// Up to four untransformed triangles of one BVH leaf (triangle objects, and
-// polygons of one triangle), by vertex and coordinate, for the watertight
-// test's edge functions of all of them at once (TriangleLeaf::maybe_hit).
-struct alignas(32) TriangleLeaf {
-  double v[3][3][4];  // [vertex][axis][lane]
-  uint32_t count = 0;
-
-  // Bit i set unless intersect_triangle on triangle i would stop at its
-  // edge functions' signs: watertight::shear_triangle_in's operations in the
-  // same order, four lanes at a time, so the same decision (a zero edge
-  // function, which it recomputes in long double, is left to it).
-  int maybe_hit(const Ray& ray) const {
-    const int lanes = (1 << count) - 1;
-#if defined(__AVX__)
-    const Vec3& d = ray.direction;
-    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
-    if (ax > ay) return lanes & (ax > az ? inside<0>(ray) : inside<2>(ray));
-    return lanes & (ay > az ? inside<1>(ray) : inside<2>(ray));
-#else
-    (void)ray;
-    return lanes;
-#endif
-  }
-
- private:
-#if defined(__AVX__)
-  template <int kz>
-  int inside(const Ray& ray) const {
-    using A = watertight::ShearAxes<kz>;
-    const Vec3& d = ray.direction;
-    const double sz = 1.0 / A::z(d), sx = -A::x(d) * sz, sy = -A::y(d) * sz;
-    const __m256d vsx = _mm256_set1_pd(sx), vsy = _mm256_set1_pd(sy);
-    __m256d x2[3], y2[3];
-    for (int j = 0; j < 3; ++j) {
-      const __m256d px = _mm256_sub_pd(_mm256_load_pd(v[j][A::kx]), _mm256_set1_pd(A::x(ray.origin)));
-      const __m256d py = _mm256_sub_pd(_mm256_load_pd(v[j][A::ky]), _mm256_set1_pd(A::y(ray.origin)));
-      const __m256d pz = _mm256_sub_pd(_mm256_load_pd(v[j][kz]), _mm256_set1_pd(A::z(ray.origin)));
-      x2[j] = _mm256_add_pd(px, _mm256_mul_pd(vsx, pz));
-      y2[j] = _mm256_add_pd(py, _mm256_mul_pd(vsy, pz));
-    }
-    const __m256d e0 = _mm256_sub_pd(_mm256_mul_pd(x2[1], y2[2]), _mm256_mul_pd(y2[1], x2[2]));
-    const __m256d e1 = _mm256_sub_pd(_mm256_mul_pd(x2[2], y2[0]), _mm256_mul_pd(y2[2], x2[0]));
-    const __m256d e2 = _mm256_sub_pd(_mm256_mul_pd(x2[0], y2[1]), _mm256_mul_pd(y2[0], x2[1]));
-    const __m256d zero = _mm256_setzero_pd();
-    const auto any = [&](int predicate_lt) {
-      const __m256d a = predicate_lt ? _mm256_cmp_pd(e0, zero, _CMP_LT_OQ) : _mm256_cmp_pd(e0, zero, _CMP_GT_OQ);
-      const __m256d b = predicate_lt ? _mm256_cmp_pd(e1, zero, _CMP_LT_OQ) : _mm256_cmp_pd(e1, zero, _CMP_GT_OQ);
-      const __m256d c = predicate_lt ? _mm256_cmp_pd(e2, zero, _CMP_LT_OQ) : _mm256_cmp_pd(e2, zero, _CMP_GT_OQ);
-      return _mm256_movemask_pd(_mm256_or_pd(_mm256_or_pd(a, b), c));
-    };
-    const int zeros = _mm256_movemask_pd(
-        _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(e0, zero, _CMP_EQ_OQ), _mm256_cmp_pd(e1, zero, _CMP_EQ_OQ)),
-                     _mm256_cmp_pd(e2, zero, _CMP_EQ_OQ)));
-    const int outside = any(1) & any(0) & ~zeros;
-    return ~outside;
-  }
-#endif
-};
 
 // The leaf's untransformed triangle (a triangle object or a polygon of one
 // triangle) as intersect_object tests it, or nothing.
@@ -471,46 +418,11 @@ class BvhAccelerator final : public Accelerator {
   std::vector<TriangleLeaf> triangle_leaves_;
 };
 
-class BruteForceAccelerator final : public Accelerator {
- public:
-  explicit BruteForceAccelerator(const Scene& scene) : scene_(scene) {}
-
-  std::optional<Hit> intersect(const Ray& world_ray) const override {
-    Ray ray = world_ray;
-    // Filled in place and returned as is (no copy of the Hit: see set_hit).
-    std::optional<Hit> result(std::in_place);
-    Hit& best = *result;
-    bool found = false;
-    for (uint32_t i = 0; i < scene_.objects.size(); ++i) {
-      if (intersect_object(scene_, i, ray, best)) {
-        ray.t_max = best.t;
-        found = true;
-      }
-    }
-    if (!found) result.reset();
-    return result;
-  }
-  bool occluded(const Ray& ray) const override { return first_blocker(ray).has_value(); }
-  std::optional<uint32_t> first_blocker(const Ray& ray) const override {
-    for (uint32_t i = 0; i < scene_.objects.size(); ++i)
-      if (occludes_object(scene_, i, ray)) return i;
-    return std::nullopt;
-  }
-  size_t memory_bytes() const override { return 0; }
-
- private:
-  const Scene& scene_;
-};
-
 }  // namespace
 
 std::unique_ptr<Accelerator> build_accelerator(const Scene& scene, const AcceleratorOptions& options) {
   if (options.backend == AccelBackend::embree) return build_embree_accelerator(scene, options);
   return std::make_unique<BvhAccelerator>(scene, options);
-}
-
-std::unique_ptr<Accelerator> build_brute_force(const Scene& scene) {
-  return std::make_unique<BruteForceAccelerator>(scene);
 }
 
 }  // namespace glint
