@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -58,6 +59,15 @@ struct Bvh {
 // included), so the float slab test never misses what the double tests hit.
 Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options = {},
               const Vec3& origin_hint = Vec3(0.0));
+
+// A primitive's box in float: exact for float geometry (mesh triangles), so
+// the build needs no double boxes (48 bytes a primitive) beside its own.
+struct FloatBox {
+  float lo[3], hi[3];
+};
+// As build_bvh, over `count` primitives whose boxes `box_of(i)` gives.
+Bvh build_bvh_over_float_boxes(size_t count, const std::function<FloatBox(size_t)>& box_of,
+                               const BvhBuildOptions& options = {}, const Vec3& origin_hint = Vec3(0.0));
 
 // Per-ray constants for the wide slab test.
 struct RaySlabs {

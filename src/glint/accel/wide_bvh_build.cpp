@@ -53,10 +53,12 @@ struct Box4f {
 };
 
 // The binary tree the SAH build makes; collapsed into BvhNode afterwards.
+// Its boxes are the build's float boxes (32 bytes a node, not 56 in double).
 struct BinaryNode {
-  Bounds3 bounds;
+  float lo[3] = {}, hi[3] = {};
   uint32_t offset = 0;  // leaf: first primitive; interior: second child
   uint32_t count = 0;   // 0: interior, first child = next node
+  Bounds3 bounds() const { return Bounds3(Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])); }
 };
 
 // 32 bytes: the primitive's float box with its id in the lo box's lane 3.
@@ -105,7 +107,10 @@ class Builder {
     const NodeBoxes boxes = known ? *known : boxes_of(begin, end);
     const Box4f& bounds = boxes.bounds;
     const Box4f& centroids = boxes.centroids;
-    out_.nodes[index].bounds = bounds.to_bounds();
+    for (int a = 0; a < 3; ++a) {
+      out_.nodes[index].lo[a] = bounds.axis_lo(a);
+      out_.nodes[index].hi[a] = bounds.axis_hi(a);
+    }
     const size_t count = end - begin;
 
     size_t mid = begin;
@@ -310,8 +315,8 @@ class Collapser {
         double best_area = -1;
         for (int i = 0; i < used; ++i) {
           const BinaryNode& n = tree_.nodes[slots[i]];
-          if (n.count == 0 && n.bounds.surface_area() > best_area) {
-            best_area = n.bounds.surface_area();
+          if (n.count == 0 && n.bounds().surface_area() > best_area) {
+            best_area = n.bounds().surface_area();
             best = i;
           }
         }
@@ -338,7 +343,7 @@ class Collapser {
       node.count[i] = count[i];
       for (int a = 0; a < 3; ++a) {
         if (i < used) {
-          const Bounds3& b = tree_.nodes[slots[i]].bounds;
+          const Bounds3 b = tree_.nodes[slots[i]].bounds();
           node.bounds[2 * a][i] = round_down(b.lo[a] - pad_);
           node.bounds[2 * a + 1][i] = round_up(b.hi[a] + pad_);
         } else {
@@ -358,21 +363,9 @@ class Collapser {
 
 bool is_finite_box(const Bounds3& b) { return !b.empty() && is_finite(b.lo) && is_finite(b.hi); }
 
-}  // namespace
-
-Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, const Vec3& origin_hint) {
-  std::vector<PrimRef> refs;
-  refs.reserve(bounds.size());
-  Bounds3 scene;
-  for (size_t i = 0; i < bounds.size(); ++i) {
-    if (!is_finite_box(bounds[i])) continue;
-    const Bounds3& b = bounds[i];
-    refs.push_back(PrimRef{{round_down(b.lo.x), round_down(b.lo.y), round_down(b.lo.z)},
-                           static_cast<uint32_t>(i),
-                           {round_up(b.hi.x), round_up(b.hi.y), round_up(b.hi.z)},
-                           0.0f});
-    scene.extend(b);
-  }
+// The build from float boxes (`refs`) and the scene's box in double.
+Bvh build_from_refs(std::vector<PrimRef> refs, const Bounds3& scene, const BvhBuildOptions& options,
+                    const Vec3& origin_hint) {
   Bvh bvh;
   if (refs.empty()) return bvh;
   BinaryTree tree;
@@ -395,6 +388,43 @@ Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, c
   bvh.nodes.shrink_to_fit();  // the reserve above is an upper bound
   bvh.primitives = std::move(tree.primitives);
   return bvh;
+}
+
+}  // namespace
+
+Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, const Vec3& origin_hint) {
+  std::vector<PrimRef> refs;
+  refs.reserve(bounds.size());
+  Bounds3 scene;
+  for (size_t i = 0; i < bounds.size(); ++i) {
+    if (!is_finite_box(bounds[i])) continue;
+    const Bounds3& b = bounds[i];
+    refs.push_back(PrimRef{{round_down(b.lo.x), round_down(b.lo.y), round_down(b.lo.z)},
+                           static_cast<uint32_t>(i),
+                           {round_up(b.hi.x), round_up(b.hi.y), round_up(b.hi.z)},
+                           0.0f});
+    scene.extend(b);
+  }
+  return build_from_refs(std::move(refs), scene, options, origin_hint);
+}
+
+Bvh build_bvh_over_float_boxes(size_t count, const std::function<FloatBox(size_t)>& box_of,
+                               const BvhBuildOptions& options, const Vec3& origin_hint) {
+  std::vector<PrimRef> refs;
+  refs.reserve(count);
+  // The scene's box in float: the same values build_bvh's double one would hold.
+  Box4f scene;
+  for (size_t i = 0; i < count; ++i) {
+    const FloatBox b = box_of(i);
+    bool finite = true;
+    for (int a = 0; a < 3; ++a)
+      finite = finite && std::isfinite(b.lo[a]) && std::isfinite(b.hi[a]) && b.lo[a] <= b.hi[a];
+    if (!finite) continue;
+    refs.push_back(PrimRef{{b.lo[0], b.lo[1], b.lo[2]}, static_cast<uint32_t>(i), {b.hi[0], b.hi[1], b.hi[2]}, 0.0f});
+    scene.extend(refs.back().lo4(), refs.back().hi4());
+  }
+  const Bounds3 scene_bounds = scene.to_bounds();
+  return build_from_refs(std::move(refs), scene_bounds, options, origin_hint);
 }
 
 }  // namespace glint
