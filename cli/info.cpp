@@ -8,37 +8,12 @@
 #include "glint/accel/accelerator.h"
 #include "glint/io/memory_limit.h"
 #include "glint/io/scene_loader.h"
+#include "glint/scene/memory.h"
 #include "options.h"
 
 namespace glint::cli {
 
 namespace {
-
-double texture_bytes(const Scene& scene) {
-  double bytes = static_cast<double>(scene.textures.capacity() * sizeof(Texture));
-  for (const TextureImage& image : scene.texture_images)
-    bytes += static_cast<double>(image.texels.capacity() * sizeof(Vec3f));
-  return bytes;
-}
-
-// Each mesh file's arrays once, however many objects instance it.
-double mesh_bytes(const Scene& scene) {
-  double bytes = static_cast<double>(scene.meshes.capacity() * sizeof(Mesh));
-  for (const Mesh& m : scene.meshes)
-    bytes +=
-        static_cast<double>(m.positions.capacity() * sizeof(Vec3f) + m.indices.capacity() * sizeof(uint32_t) +
-                            m.corner_normals.capacity() * sizeof(Vec3f) +
-                            m.triangle_material.capacity() * sizeof(uint32_t) + m.corner_uvs.capacity() * sizeof(UVf));
-  return bytes;
-}
-
-double polygon_bytes(const Scene& scene) {
-  double bytes = static_cast<double>(scene.polygons.capacity() * sizeof(Polygon));
-  for (const Polygon& p : scene.polygons)
-    bytes += static_cast<double>((p.vertices.capacity() + p.normals.capacity()) * sizeof(Vec3) +
-                                 p.triangles.capacity() * sizeof(p.triangles[0]));
-  return bytes;
-}
 
 // What the scene holds and what rendering it will take in memory.
 int run_info(const std::string& scene_path) {
@@ -53,12 +28,7 @@ int run_info(const std::string& scene_path) {
   }
   size_t lights_by_type[5] = {0, 0, 0, 0, 0};
   for (const Light& l : scene.lights) lights_by_type[static_cast<int>(l.type)]++;
-  const double scene_bytes = scene.objects.capacity() * sizeof(Object) + scene.spheres.capacity() * sizeof(Sphere) +
-                             scene.planes.capacity() * sizeof(Plane) + scene.triangles.capacity() * sizeof(Triangle) +
-                             scene.boxes.capacity() * sizeof(Box) + scene.transforms.capacity() * sizeof(Transform) +
-                             scene.materials.capacity() * sizeof(Material) + scene.lights.capacity() * sizeof(Light) +
-                             scene.cones.capacity() * sizeof(Cone) + scene.disks.capacity() * sizeof(Disk) +
-                             polygon_bytes(scene) + mesh_bytes(scene) + texture_bytes(scene);
+  const double scene_bytes = static_cast<double>(scene_memory(scene).total());
   size_t mesh_triangles = 0;  // of the mesh objects (an instance counts its mesh again)
   for (const Object& o : scene.objects)
     if (o.type == ShapeType::mesh) mesh_triangles += scene.meshes[o.shape].triangle_count();

@@ -1,8 +1,9 @@
 // glint render: a scene to an image, or an animation's frames
 // (docs/cli.md#render); under mpirun, distributed over the ranks
 // (docs/distributed.md). The options become a FrameJob and the library
-// renders the frames (render/frame_job.h: resume, partial images); this file
-// turns signals into its cancel flag and prints progress and statistics.
+// renders the frames (render/frame_job.h: resume, partial images; under
+// mpirun render/distributed_job.h); this file turns signals into its cancel
+// flag, prints progress and statistics, and ends a failed MPI job.
 #include <signal.h>
 #include <unistd.h>
 
@@ -28,7 +29,7 @@
 #include "glint/render/frames.h"
 #include "glint/render/passes.h"
 #ifdef GLINT_HAVE_MPI
-#include "glint/render/distributed.h"
+#include "glint/render/distributed_job.h"
 #endif
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
@@ -325,59 +326,8 @@ int run_render(const RenderArgs& args) {
 
 #ifdef GLINT_HAVE_MPI
 // --- distributed: under mpirun / srun (GLINT_MPI) --------------------------
-// Every rank loads the scene itself; they agree it loaded everywhere before
-// any work is handed out, so a bad scene ends every rank with no hang.
-// More frames than ranks: whole frames go to ranks (each writes its own);
-// otherwise each frame's tiles are spread over all ranks and rank 0 writes it.
-int run_render_distributed(const RenderArgs& args, const mpi::Session& session);
-
-int run_render_mpi(const RenderArgs& args) {
-  const mpi::Session session;
-  if (session.size == 1) return run_render_local(args);  // exactly the single-process render (resume and all)
-  return run_render_distributed(args, session);
-}
-
-// The frames to render, as rank 0 alone decides them (--skip-existing), so
-// ranks on file systems that disagree cannot deadlock over different lists.
-std::vector<FrameOutput> frames_to_do(const RenderArgs& args, const std::vector<FrameOutput>& plan,
-                                      const mpi::Session& session) {
-  std::vector<int> todo;
-  if (session.rank == 0)
-    for (size_t i = 0; i < plan.size(); ++i) {
-      if (args.skip_existing && frame_done(plan[i].path)) {
-        if (!args.quiet) std::fprintf(stderr, "glint: %s exists: skipped\n", plan[i].path.c_str());
-        continue;
-      }
-      todo.push_back(static_cast<int>(i));
-    }
-  mpi::broadcast(todo);
-  std::vector<FrameOutput> frames;
-  for (int i : todo) frames.push_back(plan[i]);
-  return frames;
-}
-
-// Whole frames to ranks: each rank renders its frames as a local render does.
-void render_frames_on_ranks(const RenderArgs& args, const Scene& scene, uint64_t digest,
-                            const std::vector<FrameOutput>& frames, double rank_timeout,
-                            const mpi::FaultInjection& faults) {
-  const FrameJob job = frame_job(args);
-  mpi::run_items(
-      static_cast<int>(frames.size()),
-      [&](int item) {
-        const auto start = std::chrono::steady_clock::now();
-        FrameEvents events;
-        events.finished = [&](const FrameOutput& out, const FrameReport& report) {
-          // A signal (mpirun ending the job): the frame kept a resume file.
-          if (!report.complete) throw Error(interrupted_message(out.path, report));
-          const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          const PhaseSeconds t{total - report.build_seconds - report.stats.seconds - report.write_seconds,
-                               report.build_seconds, report.stats.seconds, report.write_seconds, total};
-          if (!args.quiet) print_frame_stats(args, out.path, scene.render, report, t);
-        };
-        render_frames(scene, digest, {frames[item]}, false, job, events);
-      },
-      rank_timeout, [&](int item) { return std::to_string(frames[item].frame); }, faults);
-}
+// The library runs the job (render/distributed_job.h); this prints what it
+// reports, and ends the job when it fails on the way.
 
 void print_distributed_stats(const std::string& output, const RenderSettings& r, const mpi::DistributedStats& stats,
                              int ranks, int threads, double total) {
@@ -401,77 +351,66 @@ void print_distributed_stats(const std::string& output, const RenderSettings& r,
   std::fprintf(stderr, "glint: CPU in the render: %s\n", cpu.c_str());
 }
 
-// Each frame's tiles over all ranks; rank 0 writes the image. Passes,
-// adaptive sampling and resume need one process to hold the whole frame.
-// The statistics' "total" counts from `start`, the command's.
-int render_tiles_on_ranks(const RenderArgs& args, const Scene& scene, const std::vector<FrameOutput>& frames,
-                          const mpi::Session& session, double rank_timeout, const mpi::FaultInjection& faults,
-                          std::chrono::steady_clock::time_point start) {
-  if (args.passes || args.passes_layered || scene.render.adaptive) {
-    // Tiles of one image come from every rank as image pixels only.
-    if (session.rank == 0)
-      print_error(
-          "--passes and adaptive sampling work when frames go to ranks (more frames "
-          "than ranks); for a frame split in tiles over ranks, render without them");
-    return 1;
-  }
-  if (args.resume) {
-    // Tiles of one image come from every rank: there is no one resume file.
-    if (session.rank == 0)
-      print_error(
-          "--resume works when frames go to ranks (more frames than ranks); "
-          "for a frame split in tiles over ranks, render it again");
-    return 1;
-  }
-  const int threads = resolve_thread_count(args.threads.value_or(0));
-  for (const FrameOutput& out : frames) {
-    Scene posed;
-    const Scene& frame_scene = scene.animation.frames > 0 ? (posed = scene_at_frame(scene, out.frame)) : scene;
-    const auto accel = build_accelerator(frame_scene, AcceleratorOptions{threads, backend_named(args.accel)});
-    mpi::DistributedStats stats;
-    const Image image = mpi::render_image(frame_scene, *accel, threads, kTileSize, &stats, rank_timeout, faults);
-    if (session.rank != 0) continue;
-    write_image(image, out.path, light_options(args));
-    if (!args.quiet)
-      print_distributed_stats(out.path, frame_scene.render, stats, session.size, threads,
-                              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  return 0;
+// What every rank prepares: the scene loaded by each rank itself.
+mpi::Prepared prepare_on_rank(const RenderArgs& args) {
+  if (args.stats_json) throw Error("--stats-json describes a single-process render: run it without mpirun");
+  mpi::Prepared p;
+  p.scene = load_scene(args.scene_path);
+  p.inputs_digest = scene_inputs_digest(read_file(args.scene_path), p.scene);
+  p.plan = plan_frames(p.scene, args.output_path, args.frames);
+  apply_overrides(args, p.scene.render);
+  for (const FrameOutput& out : p.plan) check_output_path(out.path);
+  p.job = frame_job(args);
+  return p;
 }
 
 int run_render_distributed(const RenderArgs& args, const mpi::Session& session) {
-  const auto start = std::chrono::steady_clock::now();
-  std::optional<Scene> scene;
-  uint64_t digest = 0;
-  std::vector<FrameOutput> plan;
-  std::string error;
+  const auto start = std::chrono::steady_clock::now();  // of the command, for the tiles' "total"
+  mpi::DistributedOptions options;
+  options.skip_existing = args.skip_existing;
+  options.rank_timeout = args.rank_timeout.value_or(mpi::kDefaultRankTimeout);
+  options.faults = mpi::test_faults([](const char* name) { return std::getenv(name); });  // tests/mpi only
+  mpi::DistributedEvents events;
+  if (!args.quiet) {
+    events.prepared = [](const Scene& scene) {
+      for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    };
+    events.skipped = [](const FrameOutput& out) {
+      std::fprintf(stderr, "glint: %s exists: skipped\n", out.path.c_str());
+    };
+    events.frame_finished = [&](const FrameOutput& out, const RenderSettings& r, const FrameReport& report,
+                                double total) {
+      const PhaseSeconds t{total - report.build_seconds - report.stats.seconds - report.write_seconds,
+                           report.build_seconds, report.stats.seconds, report.write_seconds, total};
+      print_frame_stats(args, out.path, r, report, t);
+    };
+    events.tiles_finished = [&](const FrameOutput& out, const RenderSettings& r, const mpi::DistributedStats& stats,
+                                int threads) {
+      print_distributed_stats(out.path, r, stats, session.size, threads,
+                              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    };
+  }
+  const mpi::DistributedOutcome outcome = mpi::render_distributed(
+      session, [&] { return prepare_on_rank(args); }, options, events);
+  if (outcome.done) return 0;
+  if (!outcome.error.empty()) print_error(outcome.error);
+  return 1;
+}
+
+int run_render_mpi(const RenderArgs& args) {
+  // Outlives the catch below: its MPI_Finalize would wait for the ranks a
+  // failed job leaves waiting.
+  std::optional<mpi::Session> session;
   try {
-    if (args.stats_json) throw Error("--stats-json describes a single-process render: run it without mpirun");
-    scene = load_scene(args.scene_path);
-    digest = scene_inputs_digest(read_file(args.scene_path), *scene);
-    plan = plan_frames(*scene, args.output_path, args.frames);
-    apply_overrides(args, scene->render);
-    for (const FrameOutput& out : plan) check_output_path(out.path);
-  } catch (const std::exception& e) {
-    error = e.what();
+    session.emplace();
+    if (session->size == 1) return run_render_local(args);  // exactly the single-process render (resume and all)
+    return run_render_distributed(args, *session);
+  } catch (const mpi::JobFailure& e) {
+    std::fprintf(stderr, "error: rank %d: %s\n", e.rank(), e.what());
+    std::fflush(stderr);
+    mpi::abort_job(1);  // every rank ends, this one included
+    std::_Exit(1);      // should MPI_Abort return
   }
-  const double rank_timeout = args.rank_timeout.value_or(mpi::kDefaultRankTimeout);
-  const auto faults = mpi::test_faults([](const char* name) { return std::getenv(name); });  // tests/mpi only
-  const std::vector<int> failed = mpi::failed_ranks(error.empty());
-  if (!failed.empty()) {
-    // Rank 0 speaks for all when it failed too (the same file, the same error).
-    if (!error.empty() && (session.rank == 0 || failed.front() != 0))
-      print_error(session.rank == 0 ? error : "rank " + std::to_string(session.rank) + ": " + error);
-    return 1;
-  }
-  if (session.rank == 0 && !args.quiet)
-    for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  const std::vector<FrameOutput> frames = frames_to_do(args, plan, session);
-  if (static_cast<int>(frames.size()) > session.size) {
-    render_frames_on_ranks(args, *scene, digest, frames, rank_timeout, faults);
-    return 0;
-  }
-  return render_tiles_on_ranks(args, *scene, frames, session, rank_timeout, faults, start);
 }
 #endif
 

@@ -9,7 +9,7 @@
 #include "glint/accel/accelerator.h"
 #include "glint/io/mesh/assimp_import.h"
 #include "glint/program/plugin.h"
-#include "glint/render/distributed.h"
+#include "glint/render/distributed_job.h"
 #include "glint/serve/serve.h"
 
 namespace glint::plugin {
@@ -29,11 +29,8 @@ struct MpiApi {
   Header header;
   void (*open_session)(int& rank, int& size);  // a mpi::Session for the process
   void (*close_session)();
-  void (*abort_job)(int rank, const std::string& what);
-  decltype(&mpi::failed_ranks) failed_ranks;
-  decltype(&mpi::broadcast) broadcast;
-  decltype(&mpi::render_image) render_image;
-  decltype(&mpi::run_items) run_items;
+  decltype(&mpi::abort_job) abort_job;
+  decltype(&mpi::render_distributed) render_distributed;
 };
 
 struct ServeApi {

@@ -16,18 +16,13 @@ void open_session(int& rank, int& size) {
 
 void close_session() { session.reset(); }
 
-void abort_job(int rank, const std::string& what) { glint::mpi::abort_job(rank, what); }
-
 }  // namespace
 
 GLINT_PLUGIN_ENTRY const glint::plugin::MpiApi* glint_mpi_api() {
   static const glint::plugin::MpiApi api{{sizeof api, GLINT_VERSION_STRING},
                                          &open_session,
                                          &close_session,
-                                         &abort_job,
-                                         &glint::mpi::failed_ranks,
-                                         &glint::mpi::broadcast,
-                                         &glint::mpi::render_image,
-                                         &glint::mpi::run_items};
+                                         &glint::mpi::abort_job,
+                                         &glint::mpi::render_distributed};
   return &api;
 }

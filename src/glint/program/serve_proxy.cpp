@@ -4,8 +4,8 @@
 
 namespace glint::serve {
 
-int run(const ServeOptions& options) {
-  return plugin::api<plugin::ServeApi>("serve", "glint_serve_api", GLINT_VERSION_STRING).run(options);
+int run(const ServeOptions& options, const std::function<void(const std::string& url)>& on_listening) {
+  return plugin::api<plugin::ServeApi>("serve", "glint_serve_api", GLINT_VERSION_STRING).run(options, on_listening);
 }
 
 }  // namespace glint::serve

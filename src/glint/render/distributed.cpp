@@ -8,7 +8,6 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <exception>
@@ -33,13 +32,13 @@ int world_rank() {
 }
 
 // With MPI_ERRORS_RETURN a failed call comes back here: say which rank and
-// what, then end the job rather than wait for a message that will not come.
+// what, and fail the job rather than wait for a message that will not come.
 void check(int rc, const char* call) {
   if (rc == MPI_SUCCESS) return;
   char text[MPI_MAX_ERROR_STRING];
   int length = 0;
   MPI_Error_string(rc, text, &length);
-  abort_job(world_rank(), std::string(call) + " failed: " + std::string(text, length));
+  throw JobFailure(world_rank(), std::string(call) + " failed: " + std::string(text, length));
 }
 
 // Waits for a nonblocking call to complete, sleeping between tests. Open MPI's
@@ -69,6 +68,18 @@ std::vector<char> int_bytes(const std::vector<int>& values) {
 // (MPI_BYTE on both sides).
 class Outbox {
  public:
+  Outbox() = default;
+  Outbox(const Outbox&) = delete;
+  Outbox& operator=(const Outbox&) = delete;
+  // Left by a JobFailure with sends in flight: MPI may still read their
+  // bytes until the job ends (abort_job), so they are kept, reachable.
+  ~Outbox() {
+    static std::mutex mutex;
+    static std::deque<std::deque<Pending>> abandoned;
+    if (pending_.empty()) return;
+    std::lock_guard lock(mutex);
+    abandoned.push_back(std::move(pending_));
+  }
   void send(std::vector<char> bytes, int dest, int tag) {
     pending_.push_back(Pending{std::move(bytes), MPI_REQUEST_NULL});
     Pending& p = pending_.back();
@@ -110,6 +121,7 @@ struct LocalWork {
   int busy = 0;               // taken by a worker, not finished
   std::vector<int> finished;  // not yet reported by the main thread
   std::exception_ptr error;
+  std::atomic<bool> stopping{false};  // the job failed: workers stop (run_items' `stop`)
 
   int pop() {
     std::unique_lock lock(m);
@@ -133,6 +145,33 @@ struct LocalWork {
     ready.notify_all();
     wake.notify_one();
   }
+  // No more items, and the one in work abandoned where it can be.
+  void stop() {
+    std::lock_guard lock(m);
+    stopping = true;
+    closed = true;
+    queue.clear();
+    ready.notify_all();
+  }
+};
+
+// Stops the rank's render thread and joins it however the run ends: a
+// JobFailure leaves the function only once no thread of this rank is
+// rendering (and none is left joinable, which would terminate the process).
+class JoinOnExit {
+ public:
+  JoinOnExit(LocalWork& work, std::thread& thread) : work_(work), thread_(thread) {}
+  JoinOnExit(const JoinOnExit&) = delete;
+  JoinOnExit& operator=(const JoinOnExit&) = delete;
+  ~JoinOnExit() {
+    if (!thread_.joinable()) return;
+    work_.stop();
+    thread_.join();
+  }
+
+ private:
+  LocalWork& work_;
+  std::thread& thread_;
 };
 
 // What a finished item carries to rank 0 besides its number, and what rank 0
@@ -289,7 +328,7 @@ void coordinate(LocalWork& work, int count, const QueueDepth& depth, const Resul
     bool idle = false;
     {
       std::lock_guard lock(work.m);
-      if (work.error) abort_job(0, what_of(work.error));
+      if (work.error) throw JobFailure(0, what_of(work.error));
       // Its own workers' queue is refilled whenever one finishes: no round trip.
       while (static_cast<int>(work.queue.size()) + work.busy < depth.target() && next < count)
         work.queue.push_back(next++);
@@ -317,7 +356,7 @@ void coordinate(LocalWork& work, int count, const QueueDepth& depth, const Resul
         const std::string holding =
             held[r].empty() ? "holding no " + std::string(watch.noun) + "; rank 0 waits to tell it all is done"
                             : watch.holding(held[r]);
-        abort_job(r, "no answer for " + watch.seconds() + " s (" + holding + "); a hung rank? (--rank-timeout)");
+        throw JobFailure(r, "no answer for " + watch.seconds() + " s (" + holding + "); a hung rank? (--rank-timeout)");
       }
     }
     pause_until_progress(work, pause, heard);
@@ -342,7 +381,7 @@ void follow(LocalWork& work, QueueDepth depth, const Results& results, const Wat
     bool idle = false;
     {
       std::lock_guard lock(work.m);
-      if (work.error) abort_job(rank, what_of(work.error));
+      if (work.error) throw JobFailure(rank, what_of(work.error));
       finished.swap(work.finished);
       outstanding = static_cast<int>(work.queue.size()) + work.busy;
       idle = work.queue.empty() && work.busy == 0;
@@ -382,8 +421,8 @@ void follow(LocalWork& work, QueueDepth depth, const Results& results, const Wat
         heard = true;
         depth.answered(std::chrono::duration<double>(Clock::now() - asked).count());
       } else if (watch.overdue(asked, Clock::now())) {
-        abort_job(0, "no answer for " + watch.seconds() + " s to rank " + std::to_string(rank) +
-                         "'s request for work; a hung rank? (--rank-timeout)");
+        throw JobFailure(0, "no answer for " + watch.seconds() + " s to rank " + std::to_string(rank) +
+                                "'s request for work; a hung rank? (--rank-timeout)");
       }
     }
     if (outstanding > 0 && Clock::now() - outbox.last_send() >= watch.heartbeat())
@@ -417,17 +456,12 @@ Session::Session() {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   // Worker threads never call MPI, so funneled is all glint needs.
-  if (provided < MPI_THREAD_FUNNELED) abort_job(rank, "the MPI library does not support MPI_THREAD_FUNNELED");
+  if (provided < MPI_THREAD_FUNNELED) throw JobFailure(rank, "the MPI library does not support MPI_THREAD_FUNNELED");
 }
 
 Session::~Session() { MPI_Finalize(); }
 
-void abort_job(int rank, const std::string& what) {
-  std::fprintf(stderr, "error: rank %d: %s\n", rank, what.c_str());
-  std::fflush(stderr);
-  MPI_Abort(MPI_COMM_WORLD, 1);
-  std::_Exit(1);
-}
+void abort_job(int exit_code) { MPI_Abort(MPI_COMM_WORLD, exit_code); }
 
 std::vector<int> failed_ranks(bool ok) {
   int size = 1;
@@ -488,7 +522,7 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
     int x0, y0, x1, y1;
     tile_rect(t, x0, y0, x1, y1);
     const size_t row = static_cast<size_t>(x1 - x0) * 3 * sizeof(float);
-    if (size != row * (y1 - y0)) abort_job(0, "a tile of the wrong size arrived");  // cannot happen
+    if (size != row * (y1 - y0)) throw JobFailure(0, "a tile of the wrong size arrived");  // cannot happen
     pixel_bytes += size;
     for (int y = y0; y < y1; ++y) std::memcpy(image.pixel(x0, y), bytes + row * (y - y0), row);
   };
@@ -506,6 +540,7 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
       work.fail(std::current_exception());
     }
   });
+  const JoinOnExit joined(work, renderer);
   Traffic traffic;
   // Enough queued per rank that no worker waits for a round trip to rank 0
   // (threads + 2 left rank 1's one worker idle 20% of the time on the
@@ -546,13 +581,13 @@ Image render_image(const Scene& scene, const Accelerator& accel, int threads, in
   return image;
 }
 
-void run_items(int count, const std::function<void(int item)>& render, double rank_timeout,
-               const std::function<std::string(int item)>& name, const FaultInjection& faults) {
+void run_items(int count, const std::function<void(int item, const std::atomic<bool>& stop)>& render,
+               double rank_timeout, const std::function<std::string(int item)>& name, const FaultInjection& faults) {
   LocalWork work;
   std::thread renderer([&] {
     for (int item = work.pop(); item != kNoMore; item = work.pop()) {
       try {
-        render(item);
+        render(item, work.stopping);
       } catch (...) {
         work.fail(std::current_exception());
         return;
@@ -560,6 +595,7 @@ void run_items(int count, const std::function<void(int item)>& render, double ra
       work.finish(item);
     }
   });
+  const JoinOnExit joined(work, renderer);
   Traffic traffic;
   // One frame at a time: it uses all the rank's threads.
   run(work, count, QueueDepth(1, 1), Results{}, Watch{rank_timeout, "frames", name, faults}, traffic);

@@ -5,8 +5,10 @@
 // messages while worker threads render.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,9 +25,27 @@ namespace glint::mpi {
 // reads no environment variable).
 bool launched(const std::function<const char*(const char* name)>& environment);
 
+// A job that cannot go on: a failed MPI call, a rank that stopped answering,
+// an error in a rank's own render. Thrown on the rank that found it, once
+// that rank's own threads are stopped and joined; `rank` is the rank it is
+// about (the hung one, the failed one). The other ranks are left waiting:
+// the caller reports it and ends the job with abort_job, which is what
+// keeps no rank waiting forever. Never let it unwind past the Session (its
+// MPI_Finalize would wait for the ranks that will not come).
+class JobFailure : public std::runtime_error {
+ public:
+  JobFailure(int rank, const std::string& what) : std::runtime_error(what), rank_(rank) {}
+  int rank() const { return rank_; }
+
+ private:
+  int rank_;
+};
+
 // MPI_Init_thread (funneled) on construction, MPI_Finalize on destruction.
 // Errors on MPI_COMM_WORLD return codes (MPI_ERRORS_RETURN); glint turns a
-// failed call into an `error:` naming the rank, then aborts the job.
+// failed call into a JobFailure naming the rank. The constructor throws
+// JobFailure when MPI cannot run funneled threads (MPI is initialized then:
+// abort_job ends the job).
 class Session {
  public:
   Session();
@@ -35,9 +55,12 @@ class Session {
   int rank = 0, size = 1;
 };
 
-// Prints `error: rank R: what` and ends every rank (MPI_Abort): no rank is
-// left waiting for one that gave up.
-[[noreturn]] void abort_job(int rank, const std::string& what);
+// Ends every process of the job, this one included (MPI_Abort with
+// `exit_code`), after a JobFailure: no rank is left waiting for one that gave
+// up. Prints nothing (the caller reports the failure first). Open MPI's
+// MPI_Abort does not return; should another MPI's return, so does this, and
+// the caller ends the process.
+void abort_job(int exit_code);
 
 // Collective: the ranks whose `ok` is false (the same list on every rank).
 std::vector<int> failed_ranks(bool ok);
@@ -76,17 +99,22 @@ struct DistributedStats {
 // out by rank 0 on demand; finished tiles' pixels go to rank 0. Returns the
 // whole image on rank 0 (bit-identical to render_image), an empty one elsewhere.
 // A rank that holds tiles and sends nothing for `rank_timeout` seconds (a
-// stopped or hung process, a lost node) ends the job: rank 0 prints
-// `error: rank R: no answer for N s (holding tiles ...)` and aborts.
+// stopped or hung process, a lost node) fails the job: rank 0 throws
+// JobFailure(R, "no answer for N s (holding tiles ...)"). Any failure throws
+// JobFailure (see there).
 Image render_image(const Scene& scene, const Accelerator& accel, int threads, int tile_size = kTileSize,
                    DistributedStats* stats = nullptr, double rank_timeout = kDefaultRankTimeout,
                    const FaultInjection& faults = {});
 
 // Collective. Hands out items 0..count-1 on demand, one at a time per rank;
-// each rank calls render(item) for the items it gets (from another thread).
-// An exception from render aborts the job with the rank's error. A hung
-// rank ends the job as in render_image; `name` words an item in that error.
-void run_items(int count, const std::function<void(int item)>& render, double rank_timeout = kDefaultRankTimeout,
-               const std::function<std::string(int item)>& name = {}, const FaultInjection& faults = {});
+// each rank calls render(item, stop) for the items it gets (from another
+// thread). An exception from render fails the job with the rank's error
+// (JobFailure). A hung rank fails it as in render_image; `name` words an
+// item in that error. When the job fails, `stop` becomes true: render
+// should then return soon (a frame render cancels), as the rank waits for
+// it before throwing.
+void run_items(int count, const std::function<void(int item, const std::atomic<bool>& stop)>& render,
+               double rank_timeout = kDefaultRankTimeout, const std::function<std::string(int item)>& name = {},
+               const FaultInjection& faults = {});
 
 }  // namespace glint::mpi

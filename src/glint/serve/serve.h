@@ -61,10 +61,11 @@ class Server {
   std::unique_ptr<Impl> impl_;
 };
 
-// Runs until SIGINT or SIGTERM. Prints "glint serve: http://HOST:PORT/" on
-// stdout once the port is bound (tests wait for that line). Returns the
-// exit code; a scene that does not load or a port that cannot be bound
-// throws glint::Error.
-int run(const ServeOptions& options);
+// Runs until SIGINT or SIGTERM. Calls on_listening with the server's address
+// ("http://HOST:PORT/") once the scene is loaded and the port bound, before
+// it serves (the command line prints it there: tests wait for that line).
+// Returns the exit code; a scene that does not load or a port that cannot be
+// bound throws glint::Error. Prints nothing.
+int run(const ServeOptions& options, const std::function<void(const std::string& url)>& on_listening = {});
 
 }  // namespace glint::serve

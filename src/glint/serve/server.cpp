@@ -15,7 +15,6 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -607,7 +606,7 @@ bool Server::wait_until(const std::function<bool(const ServerStats&)>& condition
   return impl_->session.changed.wait_for(lock, timeout, [&] { return condition(impl_->stats_locked()); });
 }
 
-int run(const ServeOptions& options) {
+int run(const ServeOptions& options, const std::function<void(const std::string& url)>& on_listening) {
   // Signals go to this thread, which waits for them (no polling anywhere);
   // every thread started from here on has them blocked.
   sigset_t signals;
@@ -618,14 +617,7 @@ int run(const ServeOptions& options) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   Server server(options);
-  const std::string& host = options.host;
-  if (host != "127.0.0.1" && host != "localhost" && host != "::1")
-    std::fprintf(stderr,
-                 "warning: listening on %s: anyone who can reach this address can see and edit the scene "
-                 "(and save it)\n",
-                 host.c_str());
-  std::printf("glint serve: %s\n", server.url().c_str());
-  std::fflush(stdout);
+  if (on_listening) on_listening(server.url());
   server.start();
 
   sigset_t stop_signals;

@@ -22,6 +22,7 @@
 
 #include "glint/api/scene_state.h"
 #include "glint/glint.h"
+#include "glint/scene/memory.h"
 #include "glint/serve/serve.h"
 
 namespace glint::serve {
@@ -36,16 +37,13 @@ using api::Scene;
 inline constexpr size_t kUndoLimit = 200;
 inline constexpr size_t kUndoBytes = size_t{1} << 30;
 
-// The bytes of a scene's meshes and texture images (what dominates it).
+// The bytes of a scene's meshes and texture images (what dominates it), as
+// `glint info` counts them: by capacity, what is allocated. The bound is on
+// memory held, so what is allocated is the right measure for it too; a
+// loader's spare room is small beside the arrays.
 inline size_t scene_bytes(const Scene& scene) {
-  const glint::Scene& s = *scene.state()->scene;
-  size_t bytes = 0;
-  for (const Mesh& m : s.meshes)
-    bytes += m.positions.size() * sizeof(Vec3f) + m.indices.size() * sizeof(uint32_t) +
-             m.corner_normals.size() * sizeof(Vec3f) + m.triangle_material.size() * sizeof(uint32_t) +
-             m.corner_uvs.size() * sizeof(UVf);
-  for (const TextureImage& t : s.texture_images) bytes += t.texels.size() * sizeof(Vec3f);
-  return bytes;
+  const SceneMemory memory = scene_memory(*scene.state()->scene);
+  return memory.meshes + memory.textures;
 }
 
 // Drops the oldest steps until at most max_steps are left and they hold at
