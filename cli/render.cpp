@@ -332,8 +332,10 @@ int run_render(const RenderArgs& args) {
 void print_distributed_stats(const std::string& output, const RenderSettings& r, const mpi::DistributedStats& stats,
                              int ranks, int threads, double total) {
   std::string split;
-  for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k)
-    split += (k ? "/" : "") + std::to_string(stats.tiles_by_rank[k]);
+  for (size_t k = 0; k < stats.tiles_by_rank.size(); ++k) {
+    if (k) split += '/';
+    split += std::to_string(stats.tiles_by_rank[k]);
+  }
   std::fprintf(stderr,
                "glint: %s: %dx%d, %d spp, %d ranks x %d thread%s: render %.3f s (total %.3f s); tiles by rank %s; "
                "%llu bytes sent (%llu of pixels); %.2f Mrays/s\n",

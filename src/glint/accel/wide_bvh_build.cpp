@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <future>
+#include <memory>
+#include <stdexcept>
 #include <thread>
 
 namespace glint {
@@ -53,11 +56,14 @@ struct Box4f {
 };
 
 // The binary tree the SAH build makes; collapsed into BvhNode afterwards.
-// Its boxes are the build's float boxes (32 bytes a node, not 56 in double).
+// Its boxes are the build's float boxes (36 bytes a node, not 56 in double).
+// Left uninitialized on purpose: the arena below is allocated without
+// zeroing, so the pages of slots never handed out are never touched.
 struct BinaryNode {
-  float lo[3] = {}, hi[3] = {};
-  uint32_t offset = 0;  // leaf: first primitive; interior: second child
-  uint32_t count = 0;   // 0: interior, first child = next node
+  float lo[3], hi[3];
+  uint32_t offset;  // leaf: first primitive (of the reordered refs); interior: second child
+  uint32_t count;   // 0: interior
+  uint32_t first;   // interior: first child
   Bounds3 bounds() const { return Bounds3(Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])); }
 };
 
@@ -82,15 +88,33 @@ float round_up(double v) {
   return static_cast<double>(f) < v ? std::nextafter(f, INFINITY) : f;
 }
 
-struct BinaryTree {
-  std::vector<BinaryNode> nodes;
-  std::vector<uint32_t> primitives;
+// The binary nodes of one build, shared by its threads: each builder takes
+// slots in chunks, so subtrees built on their own threads land in place
+// (no copying of finished subtrees into their parents' arrays).
+class NodeArena {
+ public:
+  static constexpr uint32_t kChunk = 1024;
+  explicit NodeArena(size_t capacity)
+      : nodes_(std::make_unique_for_overwrite<BinaryNode[]>(capacity)), capacity_(capacity) {}
+  BinaryNode& operator[](uint32_t i) { return nodes_[i]; }
+  const BinaryNode& operator[](uint32_t i) const { return nodes_[i]; }
+  // The first slot of a fresh chunk.
+  uint32_t take_chunk() {
+    const size_t first = next_.fetch_add(kChunk, std::memory_order_relaxed);
+    if (first + kChunk > capacity_) throw std::logic_error("BVH build: node arena exhausted");
+    return static_cast<uint32_t>(first);
+  }
+
+ private:
+  std::unique_ptr<BinaryNode[]> nodes_;
+  size_t capacity_;
+  std::atomic<size_t> next_{0};
 };
 
 class Builder {
  public:
-  Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& options, BinaryTree& out, int parallel_depth)
-      : refs_(refs), options_(options), out_(out), parallel_depth_(parallel_depth) {
+  Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& options, NodeArena& nodes, int parallel_depth)
+      : refs_(refs), options_(options), nodes_(nodes), parallel_depth_(parallel_depth) {
     while ((1 << block_shift_) < options_.block_size) ++block_shift_;
     options_.block_size = 1 << block_shift_;
   }
@@ -102,14 +126,13 @@ class Builder {
 
   // `known`: the node's boxes when the parent's split already found them.
   uint32_t build(size_t begin, size_t end, int depth, const NodeBoxes* known = nullptr) {
-    const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
-    out_.nodes.emplace_back();
+    const uint32_t index = new_node();
     const NodeBoxes boxes = known ? *known : boxes_of(begin, end);
     const Box4f& bounds = boxes.bounds;
     const Box4f& centroids = boxes.centroids;
     for (int a = 0; a < 3; ++a) {
-      out_.nodes[index].lo[a] = bounds.axis_lo(a);
-      out_.nodes[index].hi[a] = bounds.axis_hi(a);
+      nodes_[index].lo[a] = bounds.axis_lo(a);
+      nodes_[index].hi[a] = bounds.axis_hi(a);
     }
     const size_t count = end - begin;
 
@@ -242,52 +265,45 @@ class Builder {
   double blocks(size_t n) const { return static_cast<double>((n + (size_t{1} << block_shift_) - 1) >> block_shift_); }
 
   uint32_t make_leaf(uint32_t index, size_t begin, size_t end) {
-    BinaryNode& n = out_.nodes[index];
-    n.offset = static_cast<uint32_t>(out_.primitives.size());
+    BinaryNode& n = nodes_[index];
+    n.offset = static_cast<uint32_t>(begin);  // refs_[begin, end): the leaf's ids, read out at the end
     n.count = static_cast<uint32_t>(end - begin);
-    for (size_t i = begin; i < end; ++i) out_.primitives.push_back(refs_[i].id);
     return index;
   }
 
   uint32_t make_interior(uint32_t index, size_t begin, size_t mid, size_t end, int depth,
                          const NodeBoxes* left_boxes = nullptr, const NodeBoxes* right_boxes = nullptr) {
-    uint32_t second;
+    uint32_t first = 0, second = 0;
     if (depth < parallel_depth_ && end - begin >= kParallelMinPrimitives) {
-      // The two halves own disjoint ranges of refs_: build them at once into
-      // trees of their own, then append both behind this node.
-      BinaryTree left, right;
+      // The two halves own disjoint ranges of refs_: build them at once.
       auto left_done = std::async(std::launch::async, [&] {
-        Builder(refs_, options_, left, parallel_depth_).build(begin, mid, depth + 1, left_boxes);
+        first = Builder(refs_, options_, nodes_, parallel_depth_).build(begin, mid, depth + 1, left_boxes);
       });
-      Builder(refs_, options_, right, parallel_depth_).build(mid, end, depth + 1, right_boxes);
+      second = Builder(refs_, options_, nodes_, parallel_depth_).build(mid, end, depth + 1, right_boxes);
       left_done.get();
-      append(left);  // the first child lands at index + 1
-      second = append(right);
     } else {
-      build(begin, mid, depth + 1, left_boxes);  // the first child lands at index + 1
+      first = build(begin, mid, depth + 1, left_boxes);
       second = build(mid, end, depth + 1, right_boxes);
     }
-    BinaryNode& n = out_.nodes[index];  // re-fetch: the vector may have grown
+    BinaryNode& n = nodes_[index];
+    n.first = first;
     n.offset = second;
     n.count = 0;
     return index;
   }
 
-  // Appends a separately built tree, rebasing its node and primitive indices.
-  uint32_t append(const BinaryTree& tree) {
-    const uint32_t node_base = static_cast<uint32_t>(out_.nodes.size());
-    const uint32_t prim_base = static_cast<uint32_t>(out_.primitives.size());
-    for (BinaryNode n : tree.nodes) {
-      n.offset += n.count > 0 ? prim_base : node_base;
-      out_.nodes.push_back(n);
+  uint32_t new_node() {
+    if (next_slot_ == chunk_end_) {
+      next_slot_ = nodes_.take_chunk();
+      chunk_end_ = next_slot_ + NodeArena::kChunk;
     }
-    out_.primitives.insert(out_.primitives.end(), tree.primitives.begin(), tree.primitives.end());
-    return node_base;
+    return next_slot_++;
   }
 
   std::vector<PrimRef>& refs_;
   BvhBuildOptions options_;  // a copy: block_size rounded up to a power of two
-  BinaryTree& out_;
+  NodeArena& nodes_;
+  uint32_t next_slot_ = 0, chunk_end_ = 0;  // this builder's chunk of nodes_
   int block_shift_ = 0;
   int parallel_depth_;  // subtrees above this depth are built on their own threads
 };
@@ -297,39 +313,39 @@ class Builder {
 // has kBvhWidth.
 class Collapser {
  public:
-  Collapser(const BinaryTree& tree, double pad, Bvh& out) : tree_(tree), pad_(pad), out_(out) {}
+  Collapser(const NodeArena& tree, double pad, Bvh& out) : tree_(tree), pad_(pad), out_(out) {}
 
   uint32_t collapse(uint32_t binary_index) {
     const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
     out_.nodes.emplace_back();
     uint32_t slots[kBvhWidth];
     int used = 0;
-    const BinaryNode& root = tree_.nodes[binary_index];
+    const BinaryNode& root = tree_[binary_index];
     if (root.count > 0) {
       slots[used++] = binary_index;  // a root that is a leaf: one leaf slot
     } else {
-      slots[used++] = binary_index + 1;
+      slots[used++] = root.first;
       slots[used++] = root.offset;
       while (used < kBvhWidth) {
         int best = -1;
         double best_area = -1;
         for (int i = 0; i < used; ++i) {
-          const BinaryNode& n = tree_.nodes[slots[i]];
+          const BinaryNode& n = tree_[slots[i]];
           if (n.count == 0 && n.bounds().surface_area() > best_area) {
             best_area = n.bounds().surface_area();
             best = i;
           }
         }
         if (best < 0) break;
-        const BinaryNode& n = tree_.nodes[slots[best]];
-        const uint32_t first = slots[best] + 1, second = n.offset;
+        const BinaryNode& n = tree_[slots[best]];
+        const uint32_t first = n.first, second = n.offset;
         slots[best] = first;
         slots[used++] = second;
       }
     }
     uint32_t child[kBvhWidth] = {}, count[kBvhWidth] = {};
     for (int i = 0; i < used; ++i) {
-      const BinaryNode& n = tree_.nodes[slots[i]];
+      const BinaryNode& n = tree_[slots[i]];
       if (n.count > 0) {
         child[i] = n.offset;
         count[i] = n.count;
@@ -343,7 +359,7 @@ class Collapser {
       node.count[i] = count[i];
       for (int a = 0; a < 3; ++a) {
         if (i < used) {
-          const Bounds3 b = tree_.nodes[slots[i]].bounds();
+          const Bounds3 b = tree_[slots[i]].bounds();
           node.bounds[2 * a][i] = round_down(b.lo[a] - pad_);
           node.bounds[2 * a + 1][i] = round_up(b.hi[a] + pad_);
         } else {
@@ -356,7 +372,7 @@ class Collapser {
   }
 
  private:
-  const BinaryTree& tree_;
+  const NodeArena& tree_;
   double pad_;
   Bvh& out_;
 };
@@ -368,25 +384,29 @@ Bvh build_from_refs(std::vector<PrimRef> refs, const Bounds3& scene, const BvhBu
                     const Vec3& origin_hint) {
   Bvh bvh;
   if (refs.empty()) return bvh;
-  BinaryTree tree;
-  tree.nodes.reserve(2 * refs.size());
-  tree.primitives.reserve(refs.size());
   // 2^d subtrees for d levels of threads: a few per core balances uneven splits.
   const int threads =
       options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   int parallel_depth = 0;
   while (threads > 1 && (1 << parallel_depth) < 4 * threads && parallel_depth < 8) ++parallel_depth;
-  Builder(refs, options, tree, parallel_depth).build(0, refs.size(), 0);
+  // A binary tree over n primitives has at most 2n - 1 nodes; each builder
+  // (fewer than 2^(d+1)) may leave part of its last chunk unused.
+  NodeArena tree(2 * refs.size() + (size_t{2} << parallel_depth) * NodeArena::kChunk);
+  const uint32_t root = Builder(refs, options, tree, parallel_depth).build(0, refs.size(), 0);
+  // Leaves name ranges of the reordered refs: their ids, in order, are the
+  // primitive list.
+  bvh.primitives.resize(refs.size());
+  for (size_t i = 0; i < refs.size(); ++i) bvh.primitives[i] = refs[i].id;
+  const size_t leaf_slots = refs.size();
   refs = {};
   // Rays are tested in float: pad boxes by more than the float rounding of
   // coordinates as large as the scene's (and the camera's) farthest point.
   const double extent =
       std::max({max_abs_component(scene.lo), max_abs_component(scene.hi), max_abs_component(origin_hint), 1e-30});
   const double pad = extent * 0x1p-20;
-  bvh.nodes.reserve(tree.nodes.size() / 2 + 1);
-  Collapser(tree, pad, bvh).collapse(0);
+  bvh.nodes.reserve(leaf_slots);  // wide nodes: fewer than binary leaves, at most n
+  Collapser(tree, pad, bvh).collapse(root);
   bvh.nodes.shrink_to_fit();  // the reserve above is an upper bound
-  bvh.primitives = std::move(tree.primitives);
   return bvh;
 }
 
