@@ -3,6 +3,7 @@
 #include <fast_float/fast_float.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -135,7 +136,7 @@ inline bool read_index(std::string_view s, int64_t& value) {
 // Statements the join replays in file order (few in large files).
 struct Event {
   enum Kind : uint8_t { usemtl, mtllib, group, object, line, points, small_face } kind;
-  size_t face;             // faces (>= 3 corners) of the chunk before it
+  size_t face;             // faces (>= 3 corners) of the file before it
   std::string_view text;   // usemtl: the name; mtllib: the rest of the line
   size_t count = 0;        // line, points: the number of indices
 };
@@ -148,38 +149,32 @@ struct LibraryError {
   enum Kind : uint8_t { face, line_or_point, vw } kind = face;
 };
 
-// One chunk's statements. Indices are 0-based; one counting back from the
-// end is stored relative to the chunk's first vertex (resolved when joined).
-struct Chunk {
-  std::vector<Vec3f> positions, normals;
-  std::vector<UVf> texcoords;
-  std::vector<uint32_t> face_end;  // per face: its end in the corner arrays
-  std::vector<int32_t> corner[3];  // v, vt, vn; vt and vn empty until a corner has one
-  bool has[3] = {true, false, false};  // corner[k] is kept
-  std::vector<uint32_t> relative[3];  // corners whose index counts back from the chunk's start
-  // Range checks that need the counts before the chunk: the largest
-  // (index - count so far) of positive indices, the smallest (count so far +
-  // index) of negative ones, per kind.
-  int64_t max_ahead[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
-  int64_t min_back[3] = {INT64_MAX, INT64_MAX, INT64_MAX};
-  std::vector<Event> events;
-  std::vector<BadVertexText> bad_vertex_text;  // vertex and line within the chunk
+// What a chunk holds, or what comes before it: v, vt, vn statements,
+// faces of 3 corners or more and their corners, lines of text.
+struct Counts {
+  size_t of[3] = {0, 0, 0};
+  size_t faces = 0, corners = 0;
   int lines = 0;
+};
+
+// One chunk's results beside the arrays it fills in place.
+struct Chunk {
+  Counts count;  // the first pass's
+  std::vector<Event> events;
+  std::vector<BadVertexText> bad_vertex_text;
   bool check_problem = false;  // find_obj_bad_statement would report something here
-  LibraryError library_error;
+  LibraryError library_error;  // its line counted in the chunk
 };
 
 // v/vt/vn statements: 0, 1, 2.
 constexpr int kVertex = 0, kTexcoord = 1, kNormal = 2;
 
 // One corner "v", "v/t", "v//n", "v/t/n" of a face, line or points
-// statement into `index` (0-based, -1: absent, relative[k]: counts back from
-// the chunk's start). Returns false for what the check rejects; sets
-// `library_error` for what tinyobjloader rejects.
-inline bool read_corner(std::string_view tok, const size_t counts[3], int64_t index[3], bool relative[3],
-                        Chunk& c, bool& library_error) {
+// statement into `index` (0-based, -1: absent), against the counts of v, vt
+// and vn before it. Returns false for what the check rejects (not a whole
+// number, 0, out of range); sets `library_error` for what tinyobjloader rejects.
+inline bool read_corner(std::string_view tok, const size_t counts[3], int32_t index[3], bool& library_error) {
   index[1] = index[2] = -1;
-  relative[0] = relative[1] = relative[2] = false;
   std::string_view part = tok;
   for (int k = 0; k < 3; ++k) {
     const size_t slash = part.find('/');
@@ -187,15 +182,10 @@ inline bool read_corner(std::string_view tok, const size_t counts[3], int64_t in
     if (k == 0 || !text.empty()) {
       int64_t i = 0;
       if (!read_index(text, i)) return false;
-      const int64_t count = static_cast<int64_t>(counts[k]);
-      if (i > 0) {
-        index[k] = i - 1;
-        c.max_ahead[k] = std::max(c.max_ahead[k], i - 1 - count);
-      } else {
-        index[k] = count + i;
-        relative[k] = true;
-        c.min_back[k] = std::min(c.min_back[k], count + i);
-      }
+      const auto count = static_cast<int64_t>(counts[k]);
+      const int64_t resolved = i > 0 ? i - 1 : count + i;
+      if (resolved < 0 || resolved >= count) return false;
+      index[k] = static_cast<int32_t>(resolved);
     } else if (k == 1 ? slash == std::string_view::npos : true) {
       // "1/" and "1//", "1/2/": tinyobjloader reads the next thing as the
       // index (0 at the line's end) and fails or misreads.
@@ -230,21 +220,50 @@ bool vw_fails(std::string_view rest) {
   return false;
 }
 
-void set_library_error(Chunk& c, int line, LibraryError::Kind kind) {
-  if (c.library_error.line == 0) c.library_error = {line, kind};
+inline bool key_is(std::string_view t, std::string_view key) {
+  return t.size() > key.size() && t.substr(0, key.size()) == key && is_blank(t[key.size()]);
 }
 
-// Parses one chunk of whole lines.
-void parse_chunk(std::string_view text, Chunk& c) {
-  c.positions.reserve(text.size() / 64);
-  c.face_end.reserve(text.size() / 48);
-  c.corner[0].reserve(text.size() / 16);
+// The first pass: what parse_chunk will store (it stops at errors, which fail the load).
+Counts count_chunk(std::string_view text) {
+  Counts n;
   LineCursor lines(text);
   std::string_view line;
-  size_t counts[3] = {0, 0, 0};
-  auto key_is = [](std::string_view t, std::string_view key) {
-    return t.size() > key.size() && t.substr(0, key.size()) == key && is_blank(t[key.size()]);
-  };
+  while (lines.next(line)) {
+    const std::string_view t = skip_blanks(line);
+    if (t.size() < 2) continue;
+    if (t[0] == 'v') {
+      if (is_blank(t[1])) ++n.of[kVertex];
+      else if (key_is(t, "vt")) ++n.of[kTexcoord];
+      else if (key_is(t, "vn")) ++n.of[kNormal];
+    } else if (t[0] == 'f' && is_blank(t[1])) {
+      size_t corners = 0;
+      bool in_token = false;
+      for (size_t i = 1; i < t.size(); ++i) {
+        const bool sep = is_separator(t[i]);
+        corners += !sep && !in_token;
+        in_token = !sep;
+      }
+      if (corners >= 3) {
+        ++n.faces;
+        n.corners += corners;
+      }
+    }
+  }
+  n.lines = lines.number();
+  return n;
+}
+
+// The second pass: parses one chunk of whole lines into `out` at the
+// chunk's place (`before`: what the chunks before it hold). Stops at the
+// first statement the check rejects.
+void parse_chunk(std::string_view text, const Counts& before, ObjData& out, Chunk& c) {
+  LineCursor lines(text);
+  std::string_view line;
+  size_t counts[3] = {before.of[0], before.of[1], before.of[2]};  // so far, in the file
+  size_t face = before.faces, corner = before.corners;
+  const bool keep_texcoord = !out.corner_texcoord.empty(), keep_normal = !out.corner_normal.empty();
+  std::vector<std::array<int32_t, 3>> corners;  // of the current statement
   while (lines.next(line)) {
     const std::string_view t = skip_blanks(line);
     if (t.empty() || t[0] == '#') continue;
@@ -254,7 +273,8 @@ void parse_chunk(std::string_view text, Chunk& c) {
     if (c0 == 'v') {
       const int kind = key_is(t, "v") ? kVertex : key_is(t, "vt") ? kTexcoord : key_is(t, "vn") ? kNormal : -1;
       if (kind < 0) {
-        if (key_is(t, "vw") && vw_fails(t.substr(3))) set_library_error(c, line_number, LibraryError::vw);
+        if (key_is(t, "vw") && vw_fails(t.substr(3)) && c.library_error.line == 0)
+          c.library_error = {line_number, LibraryError::vw};
         continue;
       }
       const char* p = t.data() + (kind == kVertex ? 1 : 2);
@@ -268,13 +288,17 @@ void parse_chunk(std::string_view text, Chunk& c) {
           return;
         }
         if (nonfinite && kind == kVertex)
-          c.bad_vertex_text.push_back({static_cast<uint32_t>(counts[kVertex]), line_number,
+          c.bad_vertex_text.push_back({static_cast<uint32_t>(counts[kVertex]), before.lines + line_number,
                                        static_cast<int>(tok.data() - line.data()) + 1, std::string(tok)});
       }
+      if (counts[kind] >= before.of[kind] + c.count.of[kind]) {  // the passes disagree: cannot happen
+        c.check_problem = true;
+        return;
+      }
       if (kind == kVertex) {
-        c.positions.push_back({value[0], value[1], value[2]});
+        out.positions[counts[kind]] = {value[0], value[1], value[2]};
       } else if (kind == kNormal) {
-        c.normals.push_back({value[0], value[1], value[2]});
+        out.normals[counts[kind]] = {value[0], value[1], value[2]};
       } else {
         // tinyobjloader splits at blanks only here: the v is the number at
         // the start of the next blank-separated token, else 0.
@@ -282,7 +306,7 @@ void parse_chunk(std::string_view text, Chunk& c) {
         while (q < end && (*q == ' ' || *q == '\t')) ++q;
         const char* start = q;
         while (q < end && *q != ' ' && *q != '\t') ++q;
-        c.texcoords.push_back({value[0], lenient_number({start, static_cast<size_t>(q - start)}, 0.0)});
+        out.texcoords[counts[kind]] = {value[0], lenient_number({start, static_cast<size_t>(q - start)}, 0.0)};
       }
       ++counts[kind];
       continue;
@@ -290,44 +314,34 @@ void parse_chunk(std::string_view text, Chunk& c) {
     if (c0 == 'f' || c0 == 'l' || c0 == 'p') {
       if (t.size() < 2 || !is_blank(t[1])) continue;
       const char* p = t.data() + 1;
-      const size_t first_corner = c.corner[0].size();
-      size_t corners = 0;
+      corners.clear();
       bool library_error = false;
       for (std::string_view tok = next_token(p, end); !tok.empty(); tok = next_token(p, end)) {
-        int64_t index[3];
-        bool relative[3];
-        if (!read_corner(tok, counts, index, relative, c, library_error)) {
+        std::array<int32_t, 3> index;
+        if (!read_corner(tok, counts, index.data(), library_error)) {
           c.check_problem = true;
           return;
         }
-        ++corners;
-        if (c0 != 'f') continue;
-        const uint32_t at = static_cast<uint32_t>(c.corner[0].size());
-        c.corner[0].push_back(static_cast<int32_t>(index[0]));
-        for (int k = 1; k < 3; ++k) {
-          // (A relative index may be negative until the chunk's start is known.)
-          if (!c.has[k] && (index[k] >= 0 || relative[k])) {
-            c.has[k] = true;
-            c.corner[k].assign(at, -1);
-          }
-          if (c.has[k]) c.corner[k].push_back(static_cast<int32_t>(index[k]));
-        }
-        for (int k = 0; k < 3; ++k)
-          if (relative[k]) c.relative[k].push_back(at);
+        corners.push_back(index);
       }
-      if (library_error)
-        set_library_error(c, line_number, c0 == 'f' ? LibraryError::face : LibraryError::line_or_point);
-      if (c0 == 'f') {
-        if (corners >= 3) {
-          c.face_end.push_back(static_cast<uint32_t>(c.corner[0].size()));
-        } else {
-          for (auto& v : c.corner) v.resize(std::min(v.size(), first_corner));
-          for (auto& r : c.relative)
-            while (!r.empty() && r.back() >= first_corner) r.pop_back();
-          c.events.push_back({Event::small_face, c.face_end.size(), {}, 0});
-        }
+      if (library_error && c.library_error.line == 0)
+        c.library_error = {line_number, c0 == 'f' ? LibraryError::face : LibraryError::line_or_point};
+      if (c0 != 'f') {
+        c.events.push_back({c0 == 'l' ? Event::line : Event::points, face, {}, corners.size()});
+      } else if (corners.size() < 3) {
+        c.events.push_back({Event::small_face, face, {}, 0});
       } else {
-        c.events.push_back({c0 == 'l' ? Event::line : Event::points, c.face_end.size(), {}, corners});
+        if (face >= before.faces + c.count.faces || corner + corners.size() > before.corners + c.count.corners) {
+          c.check_problem = true;  // the passes disagree: cannot happen
+          return;
+        }
+        for (const auto& index : corners) {
+          out.corner_vertex[corner] = index[0];
+          if (keep_texcoord) out.corner_texcoord[corner] = index[1];
+          if (keep_normal) out.corner_normal[corner] = index[2];
+          ++corner;
+        }
+        out.face_start[++face] = static_cast<uint32_t>(corner);
       }
       continue;
     }
@@ -336,17 +350,16 @@ void parse_chunk(std::string_view text, Chunk& c) {
       std::string_view name = t.substr(6);
       name = skip_blanks(name);
       name = name.substr(0, std::min(name.find_first_of(" \t"), name.size()));
-      c.events.push_back({Event::usemtl, c.face_end.size(), name, 0});
+      c.events.push_back({Event::usemtl, face, name, 0});
     } else if (key_is(t, "mtllib")) {
-      c.events.push_back({Event::mtllib, c.face_end.size(), t.substr(7), 0});
+      c.events.push_back({Event::mtllib, face, t.substr(7), 0});
     } else if (key_is(t, "g")) {
-      c.events.push_back({Event::group, c.face_end.size(), {}, 0});
+      c.events.push_back({Event::group, face, {}, 0});
     } else if (key_is(t, "o")) {
-      c.events.push_back({Event::object, c.face_end.size(), {}, 0});
+      c.events.push_back({Event::object, face, {}, 0});
     }
     // s, t, curves and the rest: ignored, as tinyobjloader does.
   }
-  c.lines = lines.number();
 }
 
 // Runs f(0) .. f(n - 1) on up to `threads` threads (f(i) writes only its own results).
@@ -530,33 +543,36 @@ ObjData read_obj(std::string_view text, const std::string& file, tinyobj::Materi
   const size_t threads = default_threads(options);
   const std::vector<size_t> bounds = split_obj_chunks(text, default_chunks(text, options, threads));
   const size_t n = bounds.size() - 1;
+  auto chunk_text = [&](size_t i) { return text.substr(bounds[i], bounds[i + 1] - bounds[i]); };
   std::vector<Chunk> chunks(n);
-  run_parallel(n, threads, [&](size_t i) { parse_chunk(text.substr(bounds[i], bounds[i + 1] - bounds[i]), chunks[i]); });
-
-  // What comes before each chunk: vertices (of each kind), faces, corners, lines.
-  struct Base {
-    size_t counts[3] = {0, 0, 0};
-    size_t faces = 0, corners = 0;
-    int lines = 0;
-  };
-  std::vector<Base> base(n + 1);
-  bool check_problem = false;
+  // Counted first, so that each chunk parses straight into the arrays at its
+  // place and resolves indices that count back as it goes.
+  run_parallel(n, threads, [&](size_t i) { chunks[i].count = count_chunk(chunk_text(i)); });
+  std::vector<Counts> before(n + 1);
   for (size_t i = 0; i < n; ++i) {
-    const Chunk& c = chunks[i];
-    base[i + 1] = base[i];
-    base[i + 1].counts[0] += c.positions.size();
-    base[i + 1].counts[1] += c.texcoords.size();
-    base[i + 1].counts[2] += c.normals.size();
-    base[i + 1].faces += c.face_end.size();
-    base[i + 1].corners += c.corner[0].size();
-    base[i + 1].lines += c.lines;
-    check_problem |= c.check_problem;
-    for (int k = 0; k < 3; ++k) {
-      const auto before = static_cast<int64_t>(base[i].counts[k]);
-      if (c.max_ahead[k] >= before || c.min_back[k] < -before) check_problem = true;
-    }
+    const Counts& c = chunks[i].count;
+    Counts& b = before[i + 1];
+    b = before[i];
+    for (int k = 0; k < 3; ++k) b.of[k] += c.of[k];
+    b.faces += c.faces;
+    b.corners += c.corners;
+    b.lines += c.lines;
   }
-  if (check_problem) {
+  const Counts& total = before[n];
+  if (total.corners > INT32_MAX || total.of[0] > INT32_MAX || total.of[1] > INT32_MAX || total.of[2] > INT32_MAX)
+    fail(file, "more than 2^31 vertices or face corners: too many for one mesh");
+
+  ObjData out;
+  out.positions.resize(total.of[kVertex]);
+  out.texcoords.resize(total.of[kTexcoord]);
+  out.normals.resize(total.of[kNormal]);
+  out.face_start.resize(total.faces + 1);
+  out.corner_vertex.resize(total.corners);
+  if (total.of[kTexcoord] > 0) out.corner_texcoord.resize(total.corners);
+  if (total.of[kNormal] > 0) out.corner_normal.resize(total.corners);
+  run_parallel(n, threads, [&](size_t i) { parse_chunk(chunk_text(i), before[i], out, chunks[i]); });
+
+  if (std::any_of(chunks.begin(), chunks.end(), [](const Chunk& c) { return c.check_problem; })) {
     // The check's own message and position (one more pass, on errors only).
     const TextProblem bad = find_obj_bad_statement(text);
     if (bad.line > 0) fail(file, bad.message, bad.line, bad.column);
@@ -565,65 +581,18 @@ ObjData read_obj(std::string_view text, const std::string& file, tinyobj::Materi
   for (size_t i = 0; i < n; ++i) {
     const LibraryError& e = chunks[i].library_error;
     if (e.line == 0) continue;
-    const int line = base[i].lines + e.line;
+    const int line = before[i].lines + e.line;
     if (e.kind == LibraryError::face) fail(file, "face with a vertex index of 0 or not a number", line);
     if (e.kind == LibraryError::line_or_point) fail(file, "line or point with a vertex index of 0 or not a number", line);
     fail(file,
          "cannot read OBJ: Failed parse `vw' line. joint_id is negative. line " + std::to_string(line) + ".)", line);
   }
 
-  // Join the chunks in file order, each on its own thread.
-  ObjData out;
-  const Base& total = base[n];
-  if (total.corners > INT32_MAX || total.counts[0] > INT32_MAX) fail(file, "too many face corners for one mesh");
-  out.positions.resize(total.counts[0]);
-  out.texcoords.resize(total.counts[1]);
-  out.normals.resize(total.counts[2]);
-  out.face_start.resize(total.faces + 1);
-  out.corner_vertex.resize(total.corners);
-  bool any[3] = {true, false, false};
-  for (const Chunk& c : chunks)
-    for (int k = 1; k < 3; ++k) any[k] |= c.has[k];
-  if (any[1]) out.corner_texcoord.resize(total.corners);
-  if (any[2]) out.corner_normal.resize(total.corners);
-  std::vector<int32_t>* corner_out[3] = {&out.corner_vertex, &out.corner_texcoord, &out.corner_normal};
-  run_parallel(n, threads, [&](size_t i) {
-    Chunk& c = chunks[i];
-    const Base& b = base[i];
-    std::copy(c.positions.begin(), c.positions.end(), out.positions.begin() + static_cast<ptrdiff_t>(b.counts[0]));
-    std::copy(c.texcoords.begin(), c.texcoords.end(), out.texcoords.begin() + static_cast<ptrdiff_t>(b.counts[1]));
-    std::copy(c.normals.begin(), c.normals.end(), out.normals.begin() + static_cast<ptrdiff_t>(b.counts[2]));
-    for (size_t f = 0; f < c.face_end.size(); ++f)
-      out.face_start[b.faces + f + 1] = static_cast<uint32_t>(b.corners + c.face_end[f]);
-    for (int k = 0; k < 3; ++k) {
-      if (!any[k]) continue;
-      auto& from = c.corner[k];
-      int32_t* to = corner_out[k]->data() + b.corners;
-      if (!c.has[k]) {
-        std::fill(to, to + c.corner[0].size(), -1);
-        continue;
-      }
-      const auto offset = static_cast<int32_t>(b.counts[k]);
-      for (uint32_t at : c.relative[k]) from[at] += offset;
-      std::copy(from.begin(), from.end(), to);
-    }
-    for (BadVertexText& bad : c.bad_vertex_text) {
-      bad.vertex += static_cast<uint32_t>(b.counts[0]);
-      bad.line += b.lines;
-    }
-    // Free the chunk's arrays as soon as they are copied (peak memory).
-    c.positions = {};
-    c.texcoords = {};
-    c.normals = {};
-    c.face_end = {};
-    for (auto& v : c.corner) v = {};
-  });
-
   // usemtl, mtllib, groups, lines and points in file order.
   out.face_material.resize(total.faces);
   Replay replay(mtl, out);
   for (size_t i = 0; i < n; ++i) {
-    for (const Event& e : chunks[i].events) replay.event(e, base[i].faces + e.face);
+    for (const Event& e : chunks[i].events) replay.event(e, e.face);
     for (BadVertexText& bad : chunks[i].bad_vertex_text) out.bad_vertex_text.push_back(std::move(bad));
   }
   replay.finish(total.faces);

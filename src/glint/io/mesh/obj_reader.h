@@ -2,11 +2,12 @@
 // an OBJ (obj.cpp builds the RawMesh from them). It reads what tinyobjloader
 // read before it (tests/test_obj_reader.cpp compares the two on every OBJ at
 // hand) with the same checks and messages (obj_checks.h), but in parallel:
-// the text is cut into chunks at line ends, each chunk is parsed on its own
-// thread, and the chunks are joined in file order, so the result does not
-// depend on the number of threads. Indices that count back from the end
-// ("f -3 -2 -1") depend on the vertices before the chunk and are resolved
-// once the chunks are joined; so are usemtl and mtllib, in file order.
+// the text is cut into chunks at line ends; a first pass counts each
+// chunk's statements, a second parses each chunk on its own thread straight
+// into the arrays at its place in file order, so the result does not depend
+// on the number of threads, and an index that counts back ("f -3 -2 -1")
+// is resolved against the vertices before it as it is read. usemtl and
+// mtllib are replayed in file order afterwards.
 #pragma once
 
 #include <tiny_obj_loader.h>
@@ -29,8 +30,8 @@ struct ObjData {
   // face_start[f] .. face_start[f + 1] - 1.
   std::vector<uint32_t> face_start{0};
   // Per corner, 0-based: the vertex, and the texture coordinate and normal
-  // (-1: none). corner_texcoord / corner_normal are empty when no corner of
-  // the file has one.
+  // (-1: none). corner_texcoord / corner_normal are empty when the file has
+  // no vt / vn statement.
   std::vector<int32_t> corner_vertex, corner_texcoord, corner_normal;
   std::vector<int32_t> face_material;         // per face: index into materials, or -1
   std::vector<tinyobj::material_t> materials;  // from the mtllib libraries, as tinyobj::LoadMtl reads them
