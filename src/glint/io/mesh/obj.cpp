@@ -80,8 +80,9 @@ void check_budget(size_t triangles, size_t vertices, size_t budget, const std::s
   if (!excess.empty()) fail(file, plural(triangles, "triangle", "triangles") + " (about): that " + excess);
 }
 
-// The faces, triangulated, into `raw` (with their normals, UVs and materials).
-// read_obj checked every index against what came before it.
+// The faces, triangulated, into `raw` (with their normals, UVs and
+// materials), in parallel over runs of faces: each run knows where its
+// triangles start. read_obj checked every index against what came before it.
 void add_obj_faces(const ObjData& obj, size_t triangles, RawMesh& raw) {
   raw.has_normals = std::any_of(obj.corner_normal.begin(), obj.corner_normal.end(), [](int32_t i) { return i >= 0; });
   raw.has_uvs = std::any_of(obj.corner_texcoord.begin(), obj.corner_texcoord.end(), [](int32_t i) { return i >= 0; });
@@ -89,30 +90,54 @@ void add_obj_faces(const ObjData& obj, size_t triangles, RawMesh& raw) {
   if (raw.has_normals) raw.normals.resize(3 * triangles);
   if (raw.has_uvs) raw.uvs.resize(3 * triangles);
   raw.triangle_material.resize(triangles);
-  const int32_t material_count = static_cast<int32_t>(obj.materials.size());
-  size_t t = 0;
-  for (size_t f = 0; f < obj.face_count(); ++f) {
-    const size_t first = obj.face_start[f], n = obj.face_start[f + 1] - first;
-    const int32_t* vertex = obj.corner_vertex.data() + first;
-    const int32_t material = obj.face_material[f] < material_count ? obj.face_material[f] : -1;
-    triangulate(
-        n, [&](size_t k) { return raw.positions[static_cast<size_t>(vertex[k])]; },
-        [&](size_t a, size_t b, size_t c) {
-          const size_t corner[3] = {a, b, c};
-          for (size_t k = 0; k < 3; ++k) {
-            raw.indices[3 * t + k] = static_cast<uint32_t>(vertex[corner[k]]);
-            if (raw.has_normals) {
-              const int32_t ni = obj.corner_normal[first + corner[k]];
-              if (ni >= 0) raw.normals[3 * t + k] = obj.normals[static_cast<size_t>(ni)];
-            }
-            if (raw.has_uvs) {
-              const int32_t ti = obj.corner_texcoord[first + corner[k]];
-              if (ti >= 0) raw.uvs[3 * t + k] = obj.texcoords[static_cast<size_t>(ti)];
-            }
-          }
-          raw.triangle_material[t++] = material;
-        });
+  const size_t faces = obj.face_count();
+  const size_t runs = std::clamp<size_t>(faces / 65536, 1, 64);
+  std::vector<size_t> first_triangle(runs + 1, 0);
+  auto run_faces = [&](size_t r) { return std::pair{faces * r / runs, faces * (r + 1) / runs}; };
+  for (size_t r = 0; r < runs; ++r) {
+    const auto [from, to] = run_faces(r);
+    // Each face of n corners makes n - 2 triangles.
+    first_triangle[r + 1] = first_triangle[r] + (obj.face_start[to] - obj.face_start[from]) - 2 * (to - from);
   }
+  const int32_t material_count = static_cast<int32_t>(obj.materials.size());
+  run_parallel(runs, 0, [&](size_t r) {
+    const auto [from, to] = run_faces(r);
+    size_t t = first_triangle[r];
+    for (size_t f = from; f < to; ++f) {
+      const size_t first = obj.face_start[f], n = obj.face_start[f + 1] - first;
+      const int32_t* vertex = obj.corner_vertex.data() + first;
+      const int32_t material = obj.face_material[f] < material_count ? obj.face_material[f] : -1;
+      triangulate(
+          n, [&](size_t k) { return raw.positions[static_cast<size_t>(vertex[k])]; },
+          [&](size_t a, size_t b, size_t c) {
+            const size_t corner[3] = {a, b, c};
+            for (size_t k = 0; k < 3; ++k) {
+              raw.indices[3 * t + k] = static_cast<uint32_t>(vertex[corner[k]]);
+              if (raw.has_normals) {
+                const int32_t ni = obj.corner_normal[first + corner[k]];
+                if (ni >= 0) raw.normals[3 * t + k] = obj.normals[static_cast<size_t>(ni)];
+              }
+              if (raw.has_uvs) {
+                const int32_t ti = obj.corner_texcoord[first + corner[k]];
+                if (ti >= 0) raw.uvs[3 * t + k] = obj.texcoords[static_cast<size_t>(ti)];
+              }
+            }
+            raw.triangle_material[t++] = material;
+          });
+    }
+  });
+}
+
+// The per-corner arrays are done with once the triangles are made: freed
+// before finish() allocates its own, which then reuse the pages.
+void release_corners(ObjData& obj) {
+  obj.face_start = {};
+  obj.corner_vertex = {};
+  obj.corner_texcoord = {};
+  obj.corner_normal = {};
+  obj.face_material = {};
+  obj.normals = {};
+  obj.texcoords = {};
 }
 
 // Missing material libraries, and usemtl names none of them has: one warning each.
@@ -267,6 +292,7 @@ MeshFile load_obj_text(const fs::path& path, const std::string& file, std::strin
   const size_t triangles = triangle_total(obj);
   check_budget(triangles, raw.positions.size(), budget, file);
   add_obj_faces(obj, triangles, raw);
+  release_corners(obj);
   raw.non_faces = obj.non_faces;
   raw.small_faces = obj.small_faces;
   if (raw.positions.empty() && raw.indices.empty() && raw.non_faces == 0)

@@ -362,29 +362,6 @@ void parse_chunk(std::string_view text, const Counts& before, ObjData& out, Chun
   }
 }
 
-// Runs f(0) .. f(n - 1) on up to `threads` threads (f(i) writes only its own results).
-template <typename F>
-void run_parallel(size_t n, size_t threads, F f) {
-  std::atomic<size_t> next{0};
-  std::exception_ptr failure;
-  std::atomic<bool> failed{false};
-  auto work = [&] {
-    for (size_t i; (i = next.fetch_add(1)) < n;) {
-      try {
-        f(i);
-      } catch (...) {
-        if (!failed.exchange(true)) failure = std::current_exception();
-      }
-    }
-  };
-  {
-    std::vector<std::jthread> pool;
-    for (size_t t = 1; t < std::min(threads, n); ++t) pool.emplace_back(work);
-    work();
-  }
-  if (failure) std::rethrow_exception(failure);
-}
-
 // tinyobjloader's SplitString(s, ' ', '\\'): mtllib file names.
 std::vector<std::string> split_names(std::string_view s) {
   std::vector<std::string> names;
@@ -525,6 +502,28 @@ size_t default_chunks(std::string_view text, const ObjReadOptions& options, size
 }
 
 }  // namespace
+
+void run_parallel(size_t n, size_t threads, const std::function<void(size_t)>& f) {
+  if (threads == 0) threads = std::max<size_t>(1, std::thread::hardware_concurrency());
+  std::atomic<size_t> next{0};
+  std::exception_ptr failure;
+  std::atomic<bool> failed{false};
+  auto work = [&] {
+    for (size_t i; (i = next.fetch_add(1)) < n;) {
+      try {
+        f(i);
+      } catch (...) {
+        if (!failed.exchange(true)) failure = std::current_exception();
+      }
+    }
+  };
+  {
+    std::vector<std::jthread> pool;
+    for (size_t t = 1; t < std::min(threads, n); ++t) pool.emplace_back(work);
+    work();
+  }
+  if (failure) std::rethrow_exception(failure);
+}
 
 std::vector<size_t> split_obj_chunks(std::string_view text, size_t chunks) {
   chunks = std::max<size_t>(1, chunks);
