@@ -362,3 +362,30 @@ TEST(ObjReader, NonFiniteVertexTextsAtTheirPlace) {
 
 }  // namespace
 }  // namespace glint::mesh_io
+
+namespace glint::mesh_io {
+namespace {
+
+// Numbers glint's check lets pass but tinyobjloader reads in its own way
+// ("+-5" and "nan" as no number: 0; an exponent above 214748364x: 0; the
+// v of "vt u v" is not checked at all): read as it read them.
+TEST(ObjReader, OddNumbersAreReadAsTinyobjloaderReadThem) {
+  const std::string text =
+      "v +-5 .5 5.\nv -0.0 +.5e1 1e-50\nv 1e9999999999 -0 +3\nv nan -inf INF\nv 1e40 2 3\n"
+      "vn +-5 0.125 3\nvn 1e+2 -.25 0\nvt 0.5 1.5abc\nvt 1 x\nvt 2\nvt +.5 -\n"
+      "f 1/1/1 2/2/2 3/3/1\nf 1/4/2 4/4/2 5/1/1\n";
+  const Reference ref = read_with_tinyobj(text, ".");
+  ASSERT_TRUE(ref.ok) << ref.err;
+  for (size_t chunks : {1, 2, 5}) {
+    const ObjData obj = read_obj(text, "t.obj", nullptr, {chunks, 2});
+    EXPECT_EQ(difference(ref, obj), "") << chunks << " chunks";
+    EXPECT_EQ(obj.positions[0].x, 0.0f);  // "+-5"
+    EXPECT_EQ(obj.positions[1].y, 5.0f);  // "+.5e1"
+    EXPECT_EQ(obj.positions[2].x, 0.0f);  // the exponent tinyobjloader gives up on
+    EXPECT_EQ(obj.texcoords[0].v, 1.5f);  // "1.5abc": the number at its start
+    EXPECT_EQ(obj.bad_vertex_text.size(), 3u);  // nan, -inf, INF
+  }
+}
+
+}  // namespace
+}  // namespace glint::mesh_io

@@ -85,9 +85,11 @@ std::optional<double> tinyobj_number(std::string_view s) {
 inline bool read_number(std::string_view tok, double fallback, float& out, bool& nonfinite_text) {
   const char* p = tok.data();
   const char* end = p + tok.size();
-  if (p < end && *p == '+') ++p;
+  const bool plus = p < end && *p == '+';
+  if (plus) ++p;
   const char* body = p < end && *p == '-' ? p + 1 : p;
-  if (body < end && (is_digit(*body) || *body == '.')) {
+  // fast_float takes "-5" but tinyobjloader reads "+-5" as no number.
+  if (body < end && (is_digit(*body) || *body == '.') && !(plus && body != p)) {
     double value = 0;
     const auto r = fast_float::from_chars(p, end, value);
     // 0 and inf from an exponent may be tinyobjloader's fallback instead.
