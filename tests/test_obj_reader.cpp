@@ -379,10 +379,10 @@ TEST(ObjReader, OddNumbersAreReadAsTinyobjloaderReadThem) {
   for (size_t chunks : {1, 2, 5}) {
     const ObjData obj = read_obj(text, "t.obj", nullptr, {chunks, 2});
     EXPECT_EQ(difference(ref, obj), "") << chunks << " chunks";
-    EXPECT_EQ(obj.positions[0].x, 0.0f);  // "+-5"
-    EXPECT_EQ(obj.positions[1].y, 5.0f);  // "+.5e1"
-    EXPECT_EQ(obj.positions[2].x, 0.0f);  // the exponent tinyobjloader gives up on
-    EXPECT_EQ(obj.texcoords[0].v, 1.5f);  // "1.5abc": the number at its start
+    EXPECT_EQ(obj.positions[0].x, 0.0f);        // "+-5"
+    EXPECT_EQ(obj.positions[1].y, 5.0f);        // "+.5e1"
+    EXPECT_EQ(obj.positions[2].x, 0.0f);        // the exponent tinyobjloader gives up on
+    EXPECT_EQ(obj.texcoords[0].v, 1.5f);        // "1.5abc": the number at its start
     EXPECT_EQ(obj.bad_vertex_text.size(), 3u);  // nan, -inf, INF
   }
 }

@@ -232,7 +232,6 @@ void add_obj_materials(const ObjData& obj, const MtlReader& mtl_reader, const st
   for (const fs::path& mtl : report_order) warn_mtl_findings(mtl, reports[mtl], raw);
 }
 
-
 // A regular file's bytes read straight into memory that asks for 2 MiB
 // pages: a 1M-triangle OBJ is 76 MB, which read_file copies twice and faults
 // in 4 KiB at a time (about a quarter of the load once the parse is parallel).
@@ -306,8 +305,7 @@ MeshFile load_obj_text(const fs::path& path, const std::string& file, std::strin
 
 MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes, size_t budget,
                   bool vertex_normals) {
-  return load_obj_text(path, file, {reinterpret_cast<const char*>(bytes.data()), bytes.size()}, budget,
-                       vertex_normals);
+  return load_obj_text(path, file, {reinterpret_cast<const char*>(bytes.data()), bytes.size()}, budget, vertex_normals);
 }
 
 MeshFile load_obj_file(const fs::path& path, const std::string& file, size_t budget, bool vertex_normals) {

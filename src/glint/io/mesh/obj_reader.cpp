@@ -138,9 +138,9 @@ inline bool read_index(std::string_view s, int64_t& value) {
 // Statements the join replays in file order (few in large files).
 struct Event {
   enum Kind : uint8_t { usemtl, mtllib, group, object, line, points, small_face } kind;
-  size_t face;             // faces (>= 3 corners) of the file before it
-  std::string_view text;   // usemtl: the name; mtllib: the rest of the line
-  size_t count = 0;        // line, points: the number of indices
+  size_t face;            // faces (>= 3 corners) of the file before it
+  std::string_view text;  // usemtl: the name; mtllib: the rest of the line
+  size_t count = 0;       // line, points: the number of indices
 };
 
 // A statement tinyobjloader rejects that find_obj_bad_statement lets pass
@@ -226,41 +226,72 @@ inline bool key_is(std::string_view t, std::string_view key) {
   return t.size() > key.size() && t.substr(0, key.size()) == key && is_blank(t[key.size()]);
 }
 
+// LineCursor for text without '\r' (nearly every chunk of a big file): one
+// memchr a line instead of two.
+class LfLines {
+ public:
+  explicit LfLines(std::string_view text) : text_(text) {}
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    const char* begin = text_.data() + pos_;
+    const void* nl = std::memchr(begin, '\n', text_.size() - pos_);
+    const size_t end = nl ? static_cast<size_t>(static_cast<const char*>(nl) - text_.data()) : text_.size();
+    line = text_.substr(pos_, end - pos_);
+    pos_ = end + 1;
+    ++number_;
+    return true;
+  }
+  int number() const { return number_; }
+
+ private:
+  std::string_view text_;
+  size_t pos_ = 0;
+  int number_ = 0;
+};
+
+// Calls f(lines) with the cheaper cursor when the text has no '\r'.
+template <typename F>
+void with_lines(std::string_view text, F f) {
+  if (text.find('\r') == std::string_view::npos) f(LfLines(text));
+  else f(LineCursor(text));
+}
+
 // The first pass: what parse_chunk will store (it stops at errors, which fail the load).
 Counts count_chunk(std::string_view text) {
   Counts n;
-  LineCursor lines(text);
-  std::string_view line;
-  while (lines.next(line)) {
-    const std::string_view t = skip_blanks(line);
-    if (t.size() < 2) continue;
-    if (t[0] == 'v') {
-      if (is_blank(t[1])) ++n.of[kVertex];
-      else if (key_is(t, "vt")) ++n.of[kTexcoord];
-      else if (key_is(t, "vn")) ++n.of[kNormal];
-    } else if (t[0] == 'f' && is_blank(t[1])) {
-      size_t corners = 0;
-      bool in_token = false;
-      for (size_t i = 1; i < t.size(); ++i) {
-        const bool sep = is_separator(t[i]);
-        corners += !sep && !in_token;
-        in_token = !sep;
-      }
-      if (corners >= 3) {
-        ++n.faces;
-        n.corners += corners;
+  with_lines(text, [&](auto lines) {
+    std::string_view line;
+    while (lines.next(line)) {
+      const std::string_view t = skip_blanks(line);
+      if (t.size() < 2) continue;
+      if (t[0] == 'v') {
+        if (is_blank(t[1])) ++n.of[kVertex];
+        else if (key_is(t, "vt")) ++n.of[kTexcoord];
+        else if (key_is(t, "vn")) ++n.of[kNormal];
+      } else if (t[0] == 'f' && is_blank(t[1])) {
+        size_t corners = 0;
+        bool in_token = false;
+        for (size_t i = 1; i < t.size(); ++i) {
+          const bool sep = is_separator(t[i]);
+          corners += !sep && !in_token;
+          in_token = !sep;
+        }
+        if (corners >= 3) {
+          ++n.faces;
+          n.corners += corners;
+        }
       }
     }
-  }
-  n.lines = lines.number();
+    n.lines = lines.number();
+  });
   return n;
 }
 
 // The second pass: parses one chunk of whole lines into `out` at the
 // chunk's place (`before`: what the chunks before it hold). Stops at the
 // first statement the check rejects.
-void parse_chunk(std::string_view text, const Counts& before, ObjData& out, Chunk& c) {
-  LineCursor lines(text);
+template <typename Lines>
+void parse_lines(Lines& lines, const Counts& before, ObjData& out, Chunk& c) {
   std::string_view line;
   size_t counts[3] = {before.of[0], before.of[1], before.of[2]};  // so far, in the file
   size_t face = before.faces, corner = before.corners;
@@ -364,6 +395,10 @@ void parse_chunk(std::string_view text, const Counts& before, ObjData& out, Chun
   }
 }
 
+void parse_chunk(std::string_view text, const Counts& before, ObjData& out, Chunk& c) {
+  with_lines(text, [&](auto lines) { parse_lines(lines, before, out, c); });
+}
+
 // tinyobjloader's SplitString(s, ' ', '\\'): mtllib file names.
 std::vector<std::string> split_names(std::string_view s) {
   std::vector<std::string> names;
@@ -459,9 +494,7 @@ struct Replay {
         }
         break;
       }
-      case Event::mtllib:
-        load_libraries(e.text);
-        break;
+      case Event::mtllib: load_libraries(e.text); break;
       case Event::group:
         flush(face);
         new_shape(face, shape_mesh);
@@ -584,9 +617,10 @@ ObjData read_obj(std::string_view text, const std::string& file, tinyobj::Materi
     if (e.line == 0) continue;
     const int line = before[i].lines + e.line;
     if (e.kind == LibraryError::face) fail(file, "face with a vertex index of 0 or not a number", line);
-    if (e.kind == LibraryError::line_or_point) fail(file, "line or point with a vertex index of 0 or not a number", line);
-    fail(file,
-         "cannot read OBJ: Failed parse `vw' line. joint_id is negative. line " + std::to_string(line) + ".)", line);
+    if (e.kind == LibraryError::line_or_point)
+      fail(file, "line or point with a vertex index of 0 or not a number", line);
+    fail(file, "cannot read OBJ: Failed parse `vw' line. joint_id is negative. line " + std::to_string(line) + ".)",
+         line);
   }
 
   // usemtl, mtllib, groups, lines and points in file order.

@@ -34,7 +34,7 @@ struct ObjData {
   // (-1: none). corner_texcoord / corner_normal are empty when the file has
   // no vt / vn statement.
   std::vector<int32_t> corner_vertex, corner_texcoord, corner_normal;
-  std::vector<int32_t> face_material;         // per face: index into materials, or -1
+  std::vector<int32_t> face_material;          // per face: index into materials, or -1
   std::vector<tinyobj::material_t> materials;  // from the mtllib libraries, as tinyobj::LoadMtl reads them
   std::vector<std::string> unknown_materials;  // usemtl names no library loaded before it has, in file order
   std::vector<BadVertexText> bad_vertex_text;  // "nan"/"inf" coordinates of v statements (read as 0)
