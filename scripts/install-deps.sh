@@ -7,7 +7,7 @@ PACKAGES=(
   cmake ninja-build g++ clang pkg-config
   nlohmann-json3-dev libstb-dev libpng-dev libtinyexr-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libtinyobjloader-dev libassimp-dev libembree-dev
+  libtinyobjloader-dev libfast-float-dev libassimp-dev libembree-dev
   assimp-testmodels
   libopenmpi-dev openmpi-bin
   python3 python3-jsonschema

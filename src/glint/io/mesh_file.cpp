@@ -71,9 +71,9 @@ MeshFile load_mesh_file(const fs::path& path, size_t memory_budget, bool vertex_
       const std::string excess = exceeds_budget(static_cast<double>(size), memory_budget);
       if (!excess.empty()) fail(file, "file of " + format_bytes(static_cast<double>(size)) + ": reading it " + excess);
     }
+    if (ext == ".obj") return mesh_io::load_obj_file(path, file, memory_budget, vertex_normals);
     std::vector<unsigned char> bytes = read_file(path);
     if (bytes.empty()) fail(file, "empty file");
-    if (ext == ".obj") return mesh_io::load_obj(path, file, std::move(bytes), memory_budget, vertex_normals);
 #if GLINT_HAVE_ASSIMP
     if (ext == ".ply") return mesh_io::load_ply(file, std::move(bytes), memory_budget, vertex_normals);
     return mesh_io::load_gltf(path, file, bytes, ext == ".glb", memory_budget, vertex_normals);

@@ -1,6 +1,9 @@
 #include "glint/io/mesh/obj.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <tiny_obj_loader.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <charconv>
@@ -11,30 +14,18 @@
 #include <thread>
 #include <utility>
 
+#include "glint/accel/huge_pages.h"
+#include "glint/io/file_io.h"
 #include "glint/io/mesh/common.h"
 #include "glint/io/mesh/mesh_builder.h"
 #include "glint/io/mesh/mtl.h"
 #include "glint/io/mesh/obj_checks.h"
+#include "glint/io/mesh/obj_reader.h"
 #include "glint/io/mesh/text_scan.h"
 
 namespace glint::mesh_io {
 namespace fs = std::filesystem;
 namespace {
-
-// "... line 12.)" in tinyobjloader's messages.
-int line_in_message(const std::string& message) {
-  const size_t pos = message.rfind("line ");
-  if (pos == std::string::npos) return 0;
-  int line = 0;
-  std::from_chars(message.data() + pos + 5, message.data() + message.size(), line);
-  return line;
-}
-
-size_t count_occurrences(const std::string& text, std::string_view what) {
-  size_t n = 0;
-  for (size_t pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + what.size())) ++n;
-  return n;
-}
 
 // UTF-16 text (with a byte-order mark) to UTF-8, as some exporters write OBJ.
 std::string utf16_to_utf8(std::string_view bytes, bool big_endian) {
@@ -60,8 +51,7 @@ std::string utf16_to_utf8(std::string_view bytes, bool big_endian) {
 
 // The file's text as UTF-8 (`converted` holds it when the file was UTF-16),
 // without a byte-order mark; binary content and blank files are errors.
-std::string_view obj_text(const std::vector<unsigned char>& bytes, std::string& converted, const std::string& file) {
-  std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+std::string_view obj_text(std::string_view text, std::string& converted, const std::string& file) {
   if (text.size() >= 2 && (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF")) {
     converted = utf16_to_utf8(text, text[0] == '\xFE');
     text = converted;
@@ -73,154 +63,90 @@ std::string_view obj_text(const std::vector<unsigned char>& bytes, std::string& 
   return text;
 }
 
-// What tinyobjloader read.
-struct ObjParse {
-  tinyobj::attrib_t attrib;
-  std::vector<tinyobj::shape_t> shapes;
-  std::vector<tinyobj::material_t> materials;
-  std::string warn, err;
-};
-
-// tinyobjloader's parse, with glint's checks of the text beside it; returns
-// the non-finite vertex texts found (an error only if a triangle uses one).
-std::vector<BadVertexText> parse_obj(std::string_view text, const std::string& file, MtlReader& mtl_reader,
-                                     ObjParse& obj) {
-  // glint's own checks of the text (numbers tinyobjloader would misread,
-  // non-finite coordinates) run beside tinyobjloader's parse: both only read
-  // the text, and loading is otherwise single-threaded (the checks are about
-  // a tenth of a 1M-triangle load). Their verdict comes first.
-  TextProblem bad_statement;
-  std::vector<BadVertexText> bad_vertex_text;
-  std::jthread checks([&] {
-    bad_statement = find_obj_bad_statement(text);
-    if (bad_statement.line == 0) bad_vertex_text = scan_obj_nonfinite_text(text);
-  });
-
-  {
-    MemoryStreambuf buffer(text.data(), text.size());
-    std::istream in(&buffer);
-    const bool ok = tinyobj::LoadObj(&obj.attrib, &obj.shapes, &obj.materials, &obj.warn, &obj.err, &in, &mtl_reader,
-                                     /*triangulate=*/false, /*default_vcols_fallback=*/false);
-    checks.join();
-    if (bad_statement.line > 0) fail(file, bad_statement.message, bad_statement.line, bad_statement.column);
-    if (!ok) {
-      const std::string first = obj.err.substr(0, obj.err.find('\n'));
-      const int line = line_in_message(first);
-      if (first.find("`f'") != std::string::npos) fail(file, "face with a vertex index of 0 or not a number", line);
-      if (first.find("`l'") != std::string::npos || first.find("`p'") != std::string::npos)
-        fail(file, "line or point with a vertex index of 0 or not a number", line);
-      fail(file, "cannot read OBJ: " + (first.empty() ? std::string("unknown error") : first), line);
-    }
-  }
-  if (mtl_reader.error)  // at the .mtl's line; the message names the OBJ that uses it
-    throw Error(mtl_reader.error->location(), mtl_reader.error->message() + " (material library of " + file + ")");
-  return bad_vertex_text;
+// Triangles the faces make (polygons of n corners make n - 2).
+size_t triangle_total(const ObjData& obj) {
+  size_t total = 0;
+  for (size_t f = 0; f < obj.face_count(); ++f) total += obj.face_start[f + 1] - obj.face_start[f] - 2;
+  return total;
 }
 
-// tinyobjloader keeps a face's vertex count in 8 bits: recover larger ones
-// from the text when the counts do not add up (empty: the stored ones hold).
-std::vector<size_t> true_face_sizes(const std::vector<tinyobj::shape_t>& shapes, std::string_view text,
-                                    const std::string& file) {
-  size_t stored_corners = 0, face_total = 0;
-  for (const auto& s : shapes) {
-    for (unsigned char n : s.mesh.num_face_vertices) stored_corners += n;
-    face_total += s.mesh.num_face_vertices.size();
-  }
-  size_t index_total = 0;
-  for (const auto& s : shapes) index_total += s.mesh.indices.size();
-  std::vector<size_t> true_sizes;
-  if (stored_corners != index_total) {
-    true_sizes = scan_obj_face_sizes(text);
-    size_t sum = 0;
-    for (size_t n : true_sizes) sum += n;
-    if (true_sizes.size() != face_total || sum != index_total)
-      fail(file, "cannot match polygons with more than 255 vertices to the faces read");
-  }
-  return true_sizes;
-}
-
-// Checks the triangles' memory against the budget and reserves for them.
-void reserve_triangles(const ObjParse& obj, size_t budget, const std::string& file, RawMesh& raw) {
-  // Polygons of n corners make n - 2 triangles (8-bit counts wrap, so at most an estimate).
-  size_t estimate = 0;
-  for (const auto& s : obj.shapes)
-    for (unsigned char n : s.mesh.num_face_vertices) estimate += n >= 3 ? n - 2 : 0;
+// Checks the triangles' memory against the budget before the large arrays are made.
+void check_budget(size_t triangles, size_t vertices, size_t budget, const std::string& file) {
   // OBJ states no counts, but text is dense: "f 1 2 3 4 ..." makes a
   // triangle per 2 bytes, 50 times that in memory. Checked once the
-  // library's compact arrays are read, before the large ones are made.
-  const std::string excess = exceeds_budget(
-      kBytesPerTriangle * double(estimate) + kBytesPerVertex * double(obj.attrib.vertices.size() / 3), budget);
-  if (!excess.empty()) fail(file, plural(estimate, "triangle", "triangles") + " (about): that " + excess);
-  raw.indices.reserve(3 * estimate);
-  raw.normals.reserve(3 * estimate);
-  raw.triangle_material.reserve(estimate);
+  // compact arrays are read, before the large ones are made.
+  const std::string excess =
+      exceeds_budget(kBytesPerTriangle * double(triangles) + kBytesPerVertex * double(vertices), budget);
+  if (!excess.empty()) fail(file, plural(triangles, "triangle", "triangles") + " (about): that " + excess);
 }
 
-// The faces, triangulated, into `raw` (with their normals, UVs and materials).
-void add_obj_faces(const ObjParse& obj, const std::vector<size_t>& true_sizes, const std::string& file, RawMesh& raw) {
-  const tinyobj::attrib_t& attrib = obj.attrib;
-  const size_t normal_count = attrib.normals.size() / 3;
-  const size_t texcoord_count = attrib.texcoords.size() / 2;
-  size_t face_ordinal = 0;
-  bool bad_index = false;
-  for (const auto& s : obj.shapes) {
-    const auto& m = s.mesh;
-    size_t offset = 0;
-    for (size_t f = 0; f < m.num_face_vertices.size(); ++f, ++face_ordinal) {
-      const size_t n = true_sizes.empty() ? m.num_face_vertices[f] : true_sizes[face_ordinal];
-      if (offset + n > m.indices.size()) fail(file, "inconsistent face data from the OBJ reader");
-      const tinyobj::index_t* corner = &m.indices[offset];
-      offset += n;
-      bool corners_ok = true;
-      for (size_t k = 0; k < n; ++k) {
-        const int vi = corner[k].vertex_index, ni = corner[k].normal_index, ti = corner[k].texcoord_index;
-        if (vi < 0 || static_cast<size_t>(vi) >= raw.positions.size()) corners_ok = false;
-        if (ni < -1 || (ni >= 0 && static_cast<size_t>(ni) >= normal_count)) corners_ok = false;
-        if (ti < -1 || (ti >= 0 && static_cast<size_t>(ti) >= texcoord_count)) corners_ok = false;
-      }
-      if (!corners_ok) {
-        bad_index = true;
-        break;
-      }
-      const int32_t material = f < m.material_ids.size() ? m.material_ids[f] : -1;
+// The faces, triangulated, into `raw` (with their normals, UVs and
+// materials), in parallel over runs of faces: each run knows where its
+// triangles start. read_obj checked every index against what came before it.
+void add_obj_faces(const ObjData& obj, size_t triangles, RawMesh& raw) {
+  raw.has_normals = std::any_of(obj.corner_normal.begin(), obj.corner_normal.end(), [](int32_t i) { return i >= 0; });
+  raw.has_uvs = std::any_of(obj.corner_texcoord.begin(), obj.corner_texcoord.end(), [](int32_t i) { return i >= 0; });
+  raw.indices.resize(3 * triangles);
+  if (raw.has_normals) raw.normals.resize(3 * triangles);
+  if (raw.has_uvs) raw.uvs.resize(3 * triangles);
+  raw.triangle_material.resize(triangles);
+  const size_t faces = obj.face_count();
+  const size_t runs = std::clamp<size_t>(faces / 65536, 1, 64);
+  std::vector<size_t> first_triangle(runs + 1, 0);
+  auto run_faces = [&](size_t r) { return std::pair{faces * r / runs, faces * (r + 1) / runs}; };
+  for (size_t r = 0; r < runs; ++r) {
+    const auto [from, to] = run_faces(r);
+    // Each face of n corners makes n - 2 triangles.
+    first_triangle[r + 1] = first_triangle[r] + (obj.face_start[to] - obj.face_start[from]) - 2 * (to - from);
+  }
+  const int32_t material_count = static_cast<int32_t>(obj.materials.size());
+  run_parallel(runs, 0, [&](size_t r) {
+    const auto [from, to] = run_faces(r);
+    size_t t = first_triangle[r];
+    for (size_t f = from; f < to; ++f) {
+      const size_t first = obj.face_start[f], n = obj.face_start[f + 1] - first;
+      const int32_t* vertex = obj.corner_vertex.data() + first;
+      const int32_t material = obj.face_material[f] < material_count ? obj.face_material[f] : -1;
       triangulate(
-          n, [&](size_t k) { return raw.positions[corner[k].vertex_index]; },
+          n, [&](size_t k) { return raw.positions[static_cast<size_t>(vertex[k])]; },
           [&](size_t a, size_t b, size_t c) {
-            for (size_t k : {a, b, c}) {
-              raw.indices.push_back(static_cast<uint32_t>(corner[k].vertex_index));
-              const int ni = corner[k].normal_index;
-              raw.normals.push_back(
-                  ni >= 0 ? Vec3f{attrib.normals[3 * ni], attrib.normals[3 * ni + 1], attrib.normals[3 * ni + 2]}
-                          : Vec3f{});
-              if (ni >= 0) raw.has_normals = true;
-              const int ti = corner[k].texcoord_index;
-              raw.uvs.push_back(ti >= 0 ? UVf{attrib.texcoords[2 * ti], attrib.texcoords[2 * ti + 1]} : UVf{});
-              if (ti >= 0) raw.has_uvs = true;
+            const size_t corner[3] = {a, b, c};
+            for (size_t k = 0; k < 3; ++k) {
+              raw.indices[3 * t + k] = static_cast<uint32_t>(vertex[corner[k]]);
+              if (raw.has_normals) {
+                const int32_t ni = obj.corner_normal[first + corner[k]];
+                if (ni >= 0) raw.normals[3 * t + k] = obj.normals[static_cast<size_t>(ni)];
+              }
+              if (raw.has_uvs) {
+                const int32_t ti = obj.corner_texcoord[first + corner[k]];
+                if (ti >= 0) raw.uvs[3 * t + k] = obj.texcoords[static_cast<size_t>(ti)];
+              }
             }
-            raw.triangle_material.push_back(
-                material >= 0 && static_cast<size_t>(material) < obj.materials.size() ? material : -1);
+            raw.triangle_material[t++] = material;
           });
     }
-    if (bad_index) break;
-    raw.non_faces += s.lines.num_line_vertices.size() + s.points.indices.size();
-  }
-  if (bad_index) {
-    fail(file, "face index out of range");  // find_obj_bad_statement found none: tinyobjloader disagrees
-  }
+  });
+}
+
+// The per-corner arrays are done with once the triangles are made: freed
+// before finish() allocates its own, which then reuse the pages.
+void release_corners(ObjData& obj) {
+  obj.face_start = {};
+  obj.corner_vertex = {};
+  obj.corner_texcoord = {};
+  obj.corner_normal = {};
+  obj.face_material = {};
+  obj.normals = {};
+  obj.texcoords = {};
 }
 
 // Missing material libraries, and usemtl names none of them has: one warning each.
-void warn_missing_materials(const ObjParse& obj, const MtlReader& mtl_reader, const std::string& file, RawMesh& raw) {
+void warn_missing_materials(const ObjData& obj, const MtlReader& mtl_reader, const std::string& file, RawMesh& raw) {
   for (const std::string& name : mtl_reader.missing)
     raw.warnings.push_back(file + ": material library '" + name + "' not found (default materials used)");
   std::vector<std::string> unknown;
-  const std::string& warn = obj.warn;
-  for (size_t pos = warn.find("material [ '"); pos != std::string::npos; pos = warn.find("material [ '", pos + 1)) {
-    const size_t start = pos + 12, end = warn.find("' ]", start);
-    if (end == std::string::npos) break;
-    std::string name = warn.substr(start, end - start);
+  for (const std::string& name : obj.unknown_materials)
     if (std::find(unknown.begin(), unknown.end(), name) == unknown.end()) unknown.push_back(name);
-  }
   if (!unknown.empty() && mtl_reader.missing.empty())
     raw.warnings.push_back(file + ": usemtl " + name_list(unknown) +
                            " not in the material library (default material used)");
@@ -289,7 +215,7 @@ void warn_mtl_findings(const fs::path& mtl, const MtlReport& r, RawMesh& raw) {
 }
 
 // Materials, and what went wrong with them: one warning per kind per file.
-void add_obj_materials(const ObjParse& obj, const MtlReader& mtl_reader, const std::string& file, RawMesh& raw) {
+void add_obj_materials(const ObjData& obj, const MtlReader& mtl_reader, const std::string& file, RawMesh& raw) {
   warn_missing_materials(obj, mtl_reader, file, raw);
   std::map<fs::path, MtlReport> reports;
   std::vector<fs::path> report_order;
@@ -306,39 +232,86 @@ void add_obj_materials(const ObjParse& obj, const MtlReader& mtl_reader, const s
   for (const fs::path& mtl : report_order) warn_mtl_findings(mtl, reports[mtl], raw);
 }
 
-}  // namespace
+// A regular file's bytes read straight into memory that asks for 2 MiB
+// pages: a 1M-triangle OBJ is 76 MB, which read_file copies twice and faults
+// in 4 KiB at a time (about a quarter of the load once the parse is parallel).
+struct WholeFile {
+  char* data = nullptr;
+  size_t size = 0, capacity = 0;
+  WholeFile() = default;
+  WholeFile(const WholeFile&) = delete;
+  WholeFile& operator=(const WholeFile&) = delete;
+  ~WholeFile() {
+    if (data) HugePageAllocator<char>().deallocate(data, capacity);
+  }
+};
 
-MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes, size_t budget,
-                  bool vertex_normals) {
+// False when the file cannot be read so (read_file then reads it, and reports).
+bool read_whole_file(const fs::path& path, WholeFile& out) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  struct stat info {};
+  bool ok = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0;
+  if (ok) {
+    out.capacity = static_cast<size_t>(info.st_size) + 1;  // a file that grew is read by read_file
+    out.data = HugePageAllocator<char>().allocate(out.capacity);
+    while (ok && out.size < out.capacity) {
+      const ssize_t n = ::read(fd, out.data + out.size, out.capacity - out.size);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        ok = n == 0;
+        break;
+      }
+      out.size += static_cast<size_t>(n);
+    }
+    ok = ok && out.size < out.capacity;
+  }
+  ::close(fd);
+  return ok;
+}
+
+MeshFile load_obj_text(const fs::path& path, const std::string& file, std::string_view bytes, size_t budget,
+                       bool vertex_normals) {
   std::string converted;
   const std::string_view text = obj_text(bytes, converted, file);
-  ObjParse obj;
   MtlReader mtl_reader(path.parent_path());
-  std::vector<BadVertexText> bad_vertex_text = parse_obj(text, file, mtl_reader, obj);
+  ObjData obj = read_obj(text, file, &mtl_reader);
+  if (mtl_reader.error)  // at the .mtl's line; the message names the OBJ that uses it
+    throw Error(mtl_reader.error->location(), mtl_reader.error->message() + " (material library of " + file + ")");
   // bytes and converted stay alive: error paths below scan the text again.
 
   RawMesh raw;
-  const tinyobj::attrib_t& attrib = obj.attrib;
-  raw.positions.resize(attrib.vertices.size() / 3);
-  for (size_t v = 0; v < raw.positions.size(); ++v)
-    raw.positions[v] = {attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]};
-  raw.bad_vertex_text = std::move(bad_vertex_text);
+  raw.positions = std::move(obj.positions);
+  raw.bad_vertex_text = std::move(obj.bad_vertex_text);
   raw.nonfinite_vertex_error = [&](uint32_t v) {
     return Error(SourceLocation{file, find_obj_statement(text, "v", v), 0},
                  "vertex coordinate is not a finite number (out of float range)");
   };
 
-  const std::vector<size_t> true_sizes = true_face_sizes(obj.shapes, text, file);
-  reserve_triangles(obj, budget, file, raw);
-  add_obj_faces(obj, true_sizes, file, raw);
-  if (!raw.has_normals) raw.normals.clear();
-  if (!raw.has_uvs) raw.uvs.clear();
-  raw.small_faces = count_occurrences(obj.warn, "Degenerated face found");
+  const size_t triangles = triangle_total(obj);
+  check_budget(triangles, raw.positions.size(), budget, file);
+  add_obj_faces(obj, triangles, raw);
+  release_corners(obj);
+  raw.non_faces = obj.non_faces;
+  raw.small_faces = obj.small_faces;
   if (raw.positions.empty() && raw.indices.empty() && raw.non_faces == 0)
     fail(file, "no vertices or faces: not a Wavefront OBJ file");
 
   add_obj_materials(obj, mtl_reader, file, raw);
   return finish(std::move(raw), file, vertex_normals);
+}
+
+}  // namespace
+
+MeshFile load_obj(const fs::path& path, const std::string& file, std::vector<unsigned char> bytes, size_t budget,
+                  bool vertex_normals) {
+  return load_obj_text(path, file, {reinterpret_cast<const char*>(bytes.data()), bytes.size()}, budget, vertex_normals);
+}
+
+MeshFile load_obj_file(const fs::path& path, const std::string& file, size_t budget, bool vertex_normals) {
+  WholeFile whole;
+  if (!read_whole_file(path, whole)) return load_obj(path, file, read_file(path), budget, vertex_normals);
+  return load_obj_text(path, file, {whole.data, whole.size}, budget, vertex_normals);
 }
 
 }  // namespace glint::mesh_io

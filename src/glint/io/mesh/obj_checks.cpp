@@ -8,25 +8,6 @@
 namespace glint::mesh_io {
 namespace {
 
-// [+-]digits[.digits][(e|E)[+-]digits] with a digit before or after the
-// point: what parse_number reads, without converting (most of the cost).
-bool is_decimal_number(std::string_view s) {
-  size_t i = 0, digits = 0;
-  auto is_digit = [&](size_t k) { return k < s.size() && s[k] >= '0' && s[k] <= '9'; };
-  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
-  for (; is_digit(i); ++i) ++digits;
-  if (i < s.size() && s[i] == '.')
-    for (++i; is_digit(i); ++i) ++digits;
-  if (digits == 0) return false;
-  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
-    ++i;
-    if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
-    if (!is_digit(i)) return false;
-    while (is_digit(i)) ++i;
-  }
-  return i == s.size();
-}
-
 // An OBJ index: [+-]digits, at most 18 of them (so it fits in 64 bits).
 // parse_integer's result, faster (a large file has millions).
 std::optional<int64_t> parse_index(std::string_view s) {
@@ -44,6 +25,23 @@ std::optional<int64_t> parse_index(std::string_view s) {
 }
 
 }  // namespace
+
+bool is_decimal_number(std::string_view s) {
+  size_t i = 0, digits = 0;
+  auto is_digit = [&](size_t k) { return k < s.size() && s[k] >= '0' && s[k] <= '9'; };
+  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+  for (; is_digit(i); ++i) ++digits;
+  if (i < s.size() && s[i] == '.')
+    for (++i; is_digit(i); ++i) ++digits;
+  if (digits == 0) return false;
+  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+    ++i;
+    if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+    if (!is_digit(i)) return false;
+    while (is_digit(i)) ++i;
+  }
+  return i == s.size();
+}
 
 int find_obj_statement(std::string_view text, std::string_view keyword, size_t ordinal) {
   LineCursor lines(text);

@@ -13,6 +13,10 @@
 
 namespace glint::mesh_io {
 
+// [+-]digits[.digits][(e|E)[+-]digits] with a digit before or after the
+// point: what parse_number reads, without converting (most of the cost).
+bool is_decimal_number(std::string_view s);
+
 // The 1-based line of the n-th (0-based) statement with this keyword.
 int find_obj_statement(std::string_view text, std::string_view keyword, size_t ordinal);
 
