@@ -28,6 +28,7 @@
 #include <span>
 #include <string>
 #include <system_error>
+#include <thread>
 
 #include "glint/error.h"
 #include "glint/image/srgb8.h"
@@ -72,24 +73,43 @@ std::string unsupported_extension_reason(const fs::path& path) {
 
 // --- encoders ---------------------------------------------------------------
 
+// Runs body(begin, end) over [0, n) in one piece per core. The 8-bit codes
+// of a 1080p image are 6.2M table lookups, 10-20 ms on one core: a fifth of
+// writing a PNG, which is most of a small scene's fixed cost.
+template <class Body>
+void for_each_range(size_t n, const Body& body) {
+  const size_t threads = n < (size_t{1} << 18) ? 1 : std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::jthread> pool;
+  for (size_t t = 1; t < threads; ++t)
+    pool.emplace_back([&body, n, t, threads] { body(n * t / threads, n * (t + 1) / threads); });
+  body(0, n / threads);
+}
+
 // The 8-bit codes of an image: sRGB-encoded light, or data scaled by 255.
 Bytes pixels8(const Image& image, const WriteOptions& options) {
   Bytes out(image.rgb.size());
+  const float* in = image.rgb.data();
   if (!options.data && (options.exposure != 0.0 || options.tonemap != ToneMap::clamp)) {
     const float scale = static_cast<float>(std::exp2(options.exposure));
     const Srgb8Table& table = srgb8_table();
-    for (size_t i = 0; i < out.size(); ++i) out[i] = srgb8_with(table, tone_map(image.rgb[i] * scale, options.tonemap));
+    for_each_range(out.size(), [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) out[i] = srgb8_with(table, tone_map(in[i] * scale, options.tonemap));
+    });
     return out;
   }
   if (options.data) {
-    for (size_t i = 0; i < out.size(); ++i) {
-      const float v = image.rgb[i];
-      out[i] = !(v > 0.0f) ? 0 : v >= 1.0f ? 255 : static_cast<std::uint8_t>(std::lround(v * 255.0f));
-    }
+    for_each_range(out.size(), [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        const float v = in[i];
+        out[i] = !(v > 0.0f) ? 0 : v >= 1.0f ? 255 : static_cast<std::uint8_t>(std::lround(v * 255.0f));
+      }
+    });
     return out;
   }
   const Srgb8Table& table = srgb8_table();
-  for (size_t i = 0; i < out.size(); ++i) out[i] = srgb8_with(table, image.rgb[i]);
+  for_each_range(out.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) out[i] = srgb8_with(table, in[i]);
+  });
   return out;
 }
 
