@@ -21,9 +21,18 @@ struct alignas(16) Triangle4 {
 };
 static_assert(sizeof(Triangle4) == 160);
 
-// The vertices of lane `lane` of block `block`, as stored and in double.
-TriangleVertices block_vertices(const Triangle4& block, int lane);
-Triangle block_triangle(const Triangle4& block, int lane);
+// The vertices of lane `lane` of block `b`, as stored and in double. Inline:
+// every mesh hit reads them (intersect_mesh, packets).
+inline TriangleVertices block_vertices(const Triangle4& b, int lane) {
+  return {Vec3f{b.v[0][0][lane], b.v[0][1][lane], b.v[0][2][lane]},
+          Vec3f{b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]},
+          Vec3f{b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane]}};
+}
+inline Triangle block_triangle(const Triangle4& b, int lane) {
+  return {Vec3(b.v[0][0][lane], b.v[0][1][lane], b.v[0][2][lane]),
+          Vec3(b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]),
+          Vec3(b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane])};
+}
 
 // The ray in the watertight test's frame: axis kz is where the direction is
 // largest, and the shear (sx, sy, sz) maps the direction to (0, 0, 1).
