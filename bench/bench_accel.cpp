@@ -445,6 +445,10 @@ int main(int argc, char** argv) {
   app.add_flag("--only-ours", only_ours, "measure our BVH alone (for profiling)");
   std::string kinds_arg = "camera,shadow,mirror,packets";
   app.add_option("--rays", kinds_arg, "what to measure (for profiling one): camera, shadow, mirror, packets");
+  int builds = 0;
+  app.add_option("--builds", builds,
+                 "only build our mesh BVH this many times at the first thread count, each timed (for profiling "
+                 "the build)");
   CLI11_PARSE(app, argc, argv);
   const std::vector<size_t> sizes = parse_list(sizes_arg);
   const std::vector<size_t> thread_counts = parse_list(threads_arg);
@@ -463,6 +467,17 @@ int main(int argc, char** argv) {
     glint::Scene scene = make_scene(target);
     const size_t tris = scene.meshes[0].triangle_count();
     std::printf("== terrain, %zu triangles (generated in %.2f s) ==\n", tris, seconds_since(t_gen));
+    if (builds > 0) {
+      glint::BvhBuildOptions options;
+      options.threads = static_cast<int>(thread_counts.at(0));
+      for (int b = 0; b < builds; ++b) {
+        const auto t0 = Clock::now();
+        const glint::MeshBvh built = glint::build_mesh_bvh(scene.meshes[0], options);
+        std::printf("build %d: %.3f s, %zu nodes, %zu blocks\n", b + 1, seconds_since(t0), built.bvh.nodes.size(),
+                    built.blocks.size());
+      }
+      continue;
+    }
 
     std::vector<Kernel> kernels;
     kernels.push_back(accelerator_kernel("glint-bvh", scene, glint::AccelBackend::bvh, g_keep_ours));
