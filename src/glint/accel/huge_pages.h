@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <cstdlib>
 #include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #if defined(__linux__)
@@ -37,6 +39,18 @@ struct HugePageAllocator {
     ::madvise(p, rounded, MADV_HUGEPAGE);  // a hint: without THP the pages stay small
 #endif
     return static_cast<T*>(p);
+  }
+  // Elements made without arguments are default-initialized, not zeroed:
+  // the buffers here (BVH nodes, triangle blocks) are written in full by
+  // their builders, and zeroing 40 MB first only to overwrite it costs a
+  // pass over memory.
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
   void deallocate(T* p, size_t n) noexcept {
     if (n * sizeof(T) < kHugePageThreshold) ::operator delete(p, std::align_val_t(alignof(T)));
