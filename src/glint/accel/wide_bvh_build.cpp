@@ -317,53 +317,29 @@ class Builder {
 
 // Collapses the binary tree into wide nodes: each wide node takes a
 // binary node's children and keeps opening the largest interior one until it
-// has kBvhWidth.
+// has kBvhWidth. A first pass counts the wide nodes, so their array is
+// allocated once at its size (no over-reserve and copy).
 class Collapser {
  public:
   Collapser(const NodeArena& tree, double pad, Bvh& out) : tree_(tree), pad_(pad), out_(out) {}
 
-  uint32_t collapse(uint32_t binary_index) {
-    const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
-    out_.nodes.emplace_back();
+  size_t count(uint32_t binary_index) const {
     uint32_t slots[kBvhWidth];
-    int used = 0;
-    const BinaryNode& root = tree_[binary_index];
-    if (root.count > 0) {
-      slots[used++] = binary_index;  // a root that is a leaf: one leaf slot
-    } else {
-      slots[used++] = root.first;
-      slots[used++] = root.offset;
-      while (used < kBvhWidth) {
-        int best = -1;
-        double best_area = -1;
-        for (int i = 0; i < used; ++i) {
-          const BinaryNode& n = tree_[slots[i]];
-          if (n.count == 0 && n.bounds().surface_area() > best_area) {
-            best_area = n.bounds().surface_area();
-            best = i;
-          }
-        }
-        if (best < 0) break;
-        const BinaryNode& n = tree_[slots[best]];
-        const uint32_t first = n.first, second = n.offset;
-        slots[best] = first;
-        slots[used++] = second;
-      }
-    }
-    uint32_t child[kBvhWidth] = {}, count[kBvhWidth] = {};
-    for (int i = 0; i < used; ++i) {
-      const BinaryNode& n = tree_[slots[i]];
-      if (n.count > 0) {
-        child[i] = n.offset;
-        count[i] = n.count;
-      } else {
-        child[i] = collapse(slots[i]);
-      }
-    }
-    BvhNode& node = out_.nodes[index];  // re-fetch: the vector may have grown
+    const int used = open_slots(binary_index, slots);
+    size_t n = 1;
+    for (int i = 0; i < used; ++i)
+      if (tree_[slots[i]].count == 0) n += count(slots[i]);
+    return n;
+  }
+
+  uint32_t collapse(uint32_t binary_index) {
+    const uint32_t index = next_++;
+    uint32_t slots[kBvhWidth];
+    const int used = open_slots(binary_index, slots);
+    BvhNode& node = out_.nodes[index];
     for (int i = 0; i < kBvhWidth; ++i) {
-      node.child[i] = child[i];
-      node.count[i] = count[i];
+      node.child[i] = 0;
+      node.count[i] = 0;
       for (int a = 0; a < 3; ++a) {
         if (i < used) {
           const Bounds3 b = tree_[slots[i]].bounds();
@@ -375,13 +351,53 @@ class Collapser {
         }
       }
     }
+    for (int i = 0; i < used; ++i) {
+      const BinaryNode& n = tree_[slots[i]];
+      if (n.count > 0) {
+        out_.nodes[index].child[i] = n.offset;
+        out_.nodes[index].count[i] = n.count;
+      } else {
+        const uint32_t child = collapse(slots[i]);
+        out_.nodes[index].child[i] = child;
+      }
+    }
     return index;
   }
 
  private:
+  // The binary nodes that become the wide node's children.
+  int open_slots(uint32_t binary_index, uint32_t (&slots)[kBvhWidth]) const {
+    int used = 0;
+    const BinaryNode& root = tree_[binary_index];
+    if (root.count > 0) {
+      slots[used++] = binary_index;  // a root that is a leaf: one leaf slot
+      return used;
+    }
+    slots[used++] = root.first;
+    slots[used++] = root.offset;
+    while (used < kBvhWidth) {
+      int best = -1;
+      double best_area = -1;
+      for (int i = 0; i < used; ++i) {
+        const BinaryNode& n = tree_[slots[i]];
+        if (n.count == 0 && n.bounds().surface_area() > best_area) {
+          best_area = n.bounds().surface_area();
+          best = i;
+        }
+      }
+      if (best < 0) break;
+      const BinaryNode& n = tree_[slots[best]];
+      const uint32_t first = n.first, second = n.offset;
+      slots[best] = first;
+      slots[used++] = second;
+    }
+    return used;
+  }
+
   const NodeArena& tree_;
   double pad_;
   Bvh& out_;
+  uint32_t next_ = 0;
 };
 
 int build_threads(const BvhBuildOptions& options) {
@@ -407,16 +423,15 @@ Bvh build_from_refs(PrimRefs refs, const Bounds3& scene, const BvhBuildOptions& 
   // primitive list.
   bvh.primitives.resize(refs.size());
   for (size_t i = 0; i < refs.size(); ++i) bvh.primitives[i] = refs[i].id;
-  const size_t leaf_slots = refs.size();
   refs = {};
   // Rays are tested in float: pad boxes by more than the float rounding of
   // coordinates as large as the scene's (and the camera's) farthest point.
   const double extent =
       std::max({max_abs_component(scene.lo), max_abs_component(scene.hi), max_abs_component(origin_hint), 1e-30});
   const double pad = extent * 0x1p-20;
-  bvh.nodes.reserve(leaf_slots);  // wide nodes: fewer than binary leaves, at most n
-  Collapser(tree, pad, bvh).collapse(root);
-  bvh.nodes.shrink_to_fit();  // the reserve above is an upper bound
+  Collapser collapser(tree, pad, bvh);
+  bvh.nodes.resize(collapser.count(root));
+  collapser.collapse(root);
   return bvh;
 }
 
