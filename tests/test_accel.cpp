@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include "glint/accel/accelerator.h"
@@ -245,6 +246,43 @@ TEST(MeshBvh, SameClosestHitsAsBruteForceOnRandomRays) {
   }
   EXPECT_GT(hits, 2000);
   EXPECT_EQ(mismatches, 0);
+}
+
+// The build's threads (parallel subtrees, refs filled in parts, the root's
+// subtrees collapsed at once) change nothing: the same nodes and blocks,
+// byte for byte, for any thread count.
+TEST(MeshBvh, SameTreeForEveryThreadCount) {
+  Rng rng(11);
+  Mesh soup;
+  for (int i = 0; i < 40000; ++i) {
+    const Vec3 c(rng.next_double() * 10, rng.next_double() * 3, rng.next_double() * 10);
+    for (int k = 0; k < 3; ++k) {
+      soup.positions.push_back(Vec3f{static_cast<float>(c.x + 0.2 * rng.next_double()),
+                                     static_cast<float>(c.y + 0.2 * rng.next_double()),
+                                     static_cast<float>(c.z + 0.2 * rng.next_double())});
+      soup.indices.push_back(static_cast<uint32_t>(soup.positions.size() - 1));
+    }
+  }
+  soup.positions[soup.indices[3 * 7]] = Vec3f{NAN, 0, 0};  // a triangle left out of the tree
+  soup.triangle_material.assign(soup.triangle_count(), 0);
+  soup.bounds = Bounds3(Vec3(0.0), Vec3(10.2, 3.2, 10.2));
+  BvhBuildOptions one;
+  one.threads = 1;
+  const MeshBvh reference = build_mesh_bvh(soup, one);
+  ASSERT_GT(reference.bvh.nodes.size(), 100u);
+  for (int threads : {2, 3, 8}) {
+    BvhBuildOptions options;
+    options.threads = threads;
+    const MeshBvh bvh = build_mesh_bvh(soup, options);
+    ASSERT_EQ(bvh.bvh.nodes.size(), reference.bvh.nodes.size()) << threads << " threads";
+    ASSERT_EQ(bvh.blocks.size(), reference.blocks.size()) << threads << " threads";
+    EXPECT_EQ(std::memcmp(bvh.bvh.nodes.data(), reference.bvh.nodes.data(), sizeof(BvhNode) * bvh.bvh.nodes.size()),
+              0)
+        << threads << " threads";
+    // Blocks hold NaN in unused lanes: compare their bytes, not their values.
+    EXPECT_EQ(std::memcmp(bvh.blocks.data(), reference.blocks.data(), sizeof(Triangle4) * bvh.blocks.size()), 0)
+        << threads << " threads";
+  }
 }
 
 TEST(MeshBvh, AxisParallelRaysMatchBruteForce) {

@@ -332,10 +332,51 @@ class Collapser {
     return n;
   }
 
+  // The whole tree into out.nodes, the root's subtrees on `threads` threads:
+  // each subtree's nodes are counted first, so each knows where its range of
+  // the array starts, and the layout is the serial collapse's, node for node.
+  void collapse_all(uint32_t root, int threads) {
+    uint32_t slots[kBvhWidth];
+    const int used = open_slots(root, slots);
+    size_t size[kBvhWidth] = {};
+    for_each_subtree(used, threads, [&](int i) {
+      if (tree_[slots[i]].count == 0) size[i] = count(slots[i]);
+    });
+    size_t total = 1;
+    for (int i = 0; i < used; ++i) total += size[i];
+    out_.nodes.resize(total);
+    uint32_t first[kBvhWidth] = {};
+    size_t next = 1;
+    for (int i = 0; i < used; ++i) {
+      first[i] = static_cast<uint32_t>(next);
+      next += size[i];
+    }
+    write_node(0, slots, used);
+    for_each_subtree(used, threads, [&](int i) {
+      const BinaryNode& n = tree_[slots[i]];
+      if (n.count > 0) return;
+      Collapser subtree(tree_, pad_, out_);
+      subtree.next_ = first[i];
+      out_.nodes[0].child[i] = subtree.collapse(slots[i]);
+    });
+  }
+
   uint32_t collapse(uint32_t binary_index) {
     const uint32_t index = next_++;
     uint32_t slots[kBvhWidth];
     const int used = open_slots(binary_index, slots);
+    write_node(index, slots, used);
+    for (int i = 0; i < used; ++i)
+      if (tree_[slots[i]].count == 0) {
+        const uint32_t child = collapse(slots[i]);
+        out_.nodes[index].child[i] = child;
+      }
+    return index;
+  }
+
+ private:
+  // The node's boxes and its leaves; interior children are set by the caller.
+  void write_node(uint32_t index, const uint32_t (&slots)[kBvhWidth], int used) {
     BvhNode& node = out_.nodes[index];
     for (int i = 0; i < kBvhWidth; ++i) {
       node.child[i] = 0;
@@ -354,17 +395,24 @@ class Collapser {
     for (int i = 0; i < used; ++i) {
       const BinaryNode& n = tree_[slots[i]];
       if (n.count > 0) {
-        out_.nodes[index].child[i] = n.offset;
-        out_.nodes[index].count[i] = n.count;
-      } else {
-        const uint32_t child = collapse(slots[i]);
-        out_.nodes[index].child[i] = child;
+        node.child[i] = n.offset;
+        node.count[i] = n.count;
       }
     }
-    return index;
   }
 
- private:
+  template <class Task>
+  static void for_each_subtree(int used, int threads, const Task& task) {
+    std::atomic<int> next{0};
+    auto worker = [&] {
+      for (int i = next++; i < used; i = next++) task(i);
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < std::min(threads, used); ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+  }
+
   // The binary nodes that become the wide node's children.
   int open_slots(uint32_t binary_index, uint32_t (&slots)[kBvhWidth]) const {
     int used = 0;
@@ -423,15 +471,14 @@ Bvh build_from_refs(PrimRefs refs, const Bounds3& scene, const BvhBuildOptions& 
   // primitive list.
   bvh.primitives.resize(refs.size());
   for (size_t i = 0; i < refs.size(); ++i) bvh.primitives[i] = refs[i].id;
+  const size_t refs_count = refs.size();
   refs = {};
   // Rays are tested in float: pad boxes by more than the float rounding of
   // coordinates as large as the scene's (and the camera's) farthest point.
   const double extent =
       std::max({max_abs_component(scene.lo), max_abs_component(scene.hi), max_abs_component(origin_hint), 1e-30});
   const double pad = extent * 0x1p-20;
-  Collapser collapser(tree, pad, bvh);
-  bvh.nodes.resize(collapser.count(root));
-  collapser.collapse(root);
+  Collapser(tree, pad, bvh).collapse_all(root, refs_count < kParallelMinPrimitives ? 1 : threads);
   return bvh;
 }
 
