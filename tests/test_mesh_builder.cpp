@@ -217,6 +217,22 @@ TEST(MeshFinish, ResizeInHugePagesKeepsAndZeroes) {
   EXPECT_EQ(std::count(v.begin() + 2, v.end(), 0), static_cast<ptrdiff_t>(v.size() - 2));
   resize_in_huge_pages(v, 1);
   EXPECT_EQ(v, std::vector<int32_t>{5});
+  fit_capacity(v);
+  EXPECT_EQ(v.capacity(), 1u);
+  EXPECT_EQ(v, std::vector<int32_t>{5});
+}
+
+// The arrays a reader grew by push_back are kept at their exact size (the
+// renderer holds them for the whole render).
+TEST(MeshFinish, KeepsNoSlackCapacity) {
+  RawMesh raw = hand_mesh();
+  raw.positions.reserve(1000);
+  raw.indices.reserve(3000);
+  const MeshFile m = finish(std::move(raw), "m.obj", true, {2, 1});
+  EXPECT_EQ(m.positions.capacity(), m.positions.size());
+  EXPECT_EQ(m.indices.capacity(), m.indices.size());
+  EXPECT_EQ(m.corner_normals.capacity(), m.corner_normals.size());  // 9 corners held, 6 kept
+  EXPECT_EQ(m.triangle_material.capacity(), m.triangle_material.size());
 }
 
 }  // namespace

@@ -56,6 +56,19 @@ void resize_in_huge_pages(std::vector<T>& v, size_t n) {
   v.swap(fresh);
 }
 
+// `v` copied into memory of its exact size (advised as above) when the
+// capacity it grew to holds more than 1/256 unused: the arrays a mesh keeps
+// for the whole render should not carry a reader's push_back slack.
+template <class T>
+void fit_capacity(std::vector<T>& v) {
+  if (v.capacity() - v.size() <= v.capacity() / 256) return;
+  std::vector<T> exact;
+  exact.reserve(v.size());
+  advise_huge_pages(exact.data(), v.size() * sizeof(T));
+  exact.assign(v.begin(), v.end());
+  v.swap(exact);
+}
+
 // Runs f(0) .. f(n - 1) on up to `threads` threads (0: one per hardware
 // thread); each f(i) must write only its own results. The first exception
 // thrown is rethrown once all are done.

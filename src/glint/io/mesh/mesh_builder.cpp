@@ -334,6 +334,11 @@ MeshFile finish(RawMesh raw, const std::string& file, bool vertex_normals, const
   compact_positions(raw.positions, remap);
   out.positions = std::move(raw.positions);
   keep_materials(raw, out);
+  fit_capacity(out.positions);
+  fit_capacity(out.indices);
+  fit_capacity(out.corner_normals);
+  fit_capacity(out.corner_uvs);
+  fit_capacity(out.triangle_material);
 
   if (raw.small_faces > 0)
     raw.warnings.push_back(file + ": skipped " + plural(raw.small_faces, "face", "faces") +
