@@ -150,8 +150,7 @@ TEST(MeshFinish, HandWorkedMeshOnEveryCut) {
       EXPECT_TRUE(same_bits(m.positions, positions));
       EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));
       // The file's normals made unit ((0, 3, 4) / 5), and computed where a corner has none usable.
-      const std::vector<Vec3f> normals = {{0, 0, 1}, {0, 0, 1}, {0, 0.6f, 0.8f},
-                                          {0, 0, 1}, {0, 0, -1}, {1, 0, 0}};
+      const std::vector<Vec3f> normals = {{0, 0, 1}, {0, 0, 1}, {0, 0.6f, 0.8f}, {0, 0, 1}, {0, 0, -1}, {1, 0, 0}};
       EXPECT_TRUE(same_bits(m.corner_normals, normals));
       const std::vector<UVf> uvs = {{0, 0}, {1, 0}, {0, 1}, {1, 0}, {1, 1}, {0, 1}};
       EXPECT_TRUE(same_bits(m.corner_uvs, uvs));

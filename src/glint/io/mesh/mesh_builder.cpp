@@ -24,7 +24,9 @@ struct Vec3d {
   double x, y, z;
 };
 inline Vec3d to_d(const Vec3f& v) { return {v.x, v.y, v.z}; }
-inline Vec3f to_f(const Vec3d& v) { return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)}; }
+inline Vec3f to_f(const Vec3d& v) {
+  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+}
 inline Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline Vec3d cross(const Vec3d& a, const Vec3d& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
@@ -300,9 +302,8 @@ MeshFile finish(RawMesh raw, const std::string& file, bool vertex_normals, const
   warn_dropped(raw, file, runs, scans);
 
   const bool computed_normals =
-      vertex_normals && (!raw.has_normals || std::any_of(scans.begin(), scans.end(), [](const RunScan& s) {
-                           return s.needs_computed_normal;
-                         }));
+      vertex_normals && (!raw.has_normals || std::any_of(scans.begin(), scans.end(),
+                                                         [](const RunScan& s) { return s.needs_computed_normal; }));
   std::vector<Vec3d> vertex_normal;
   if (computed_normals) vertex_normal = angle_weighted_normals(raw, runs, scans);
   const std::vector<uint32_t> remap = vertex_remap(used);
