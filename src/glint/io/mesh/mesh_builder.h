@@ -63,11 +63,19 @@ void triangulate(size_t n, Position position, Emit emit) {
   }
 }
 
+// How finish() cuts the triangles into runs for its passes over them in
+// parallel. The result does not depend on it (tests compare them).
+struct FinishOptions {
+  size_t threads = 0;  // 0: one per hardware thread
+  size_t triangles_per_run = 65536;
+};
+
 // Polygons triangulated already; checks the vertices the triangles use
 // (NaN/Inf is an error), drops zero-area triangles (one counted warning),
 // gives every corner a unit normal when `vertex_normals` (the file's, or
 // angle-weighted per vertex index), and removes unused vertices and unnamed
-// unused materials. Throws glint::Error when no triangle is left.
-MeshFile finish(RawMesh raw, const std::string& file, bool vertex_normals);
+// unused materials. Throws glint::Error when no triangle is left. The
+// arrays of `raw` become the MeshFile's, rewritten in place.
+MeshFile finish(RawMesh raw, const std::string& file, bool vertex_normals, const FinishOptions& options = {});
 
 }  // namespace glint::mesh_io

@@ -86,10 +86,10 @@ void check_budget(size_t triangles, size_t vertices, size_t budget, const std::s
 void add_obj_faces(const ObjData& obj, size_t triangles, RawMesh& raw) {
   raw.has_normals = std::any_of(obj.corner_normal.begin(), obj.corner_normal.end(), [](int32_t i) { return i >= 0; });
   raw.has_uvs = std::any_of(obj.corner_texcoord.begin(), obj.corner_texcoord.end(), [](int32_t i) { return i >= 0; });
-  raw.indices.resize(3 * triangles);
-  if (raw.has_normals) raw.normals.resize(3 * triangles);
-  if (raw.has_uvs) raw.uvs.resize(3 * triangles);
-  raw.triangle_material.resize(triangles);
+  resize_in_huge_pages(raw.indices, 3 * triangles);
+  if (raw.has_normals) resize_in_huge_pages(raw.normals, 3 * triangles);
+  if (raw.has_uvs) resize_in_huge_pages(raw.uvs, 3 * triangles);
+  resize_in_huge_pages(raw.triangle_material, triangles);
   const size_t faces = obj.face_count();
   const size_t runs = std::clamp<size_t>(faces / 65536, 1, 64);
   std::vector<size_t> first_triangle(runs + 1, 0);
@@ -129,7 +129,7 @@ void add_obj_faces(const ObjData& obj, size_t triangles, RawMesh& raw) {
 }
 
 // The per-corner arrays are done with once the triangles are made: freed
-// before finish() allocates its own, which then reuse the pages.
+// before finish(), so that they are not held at the load's peak.
 void release_corners(ObjData& obj) {
   obj.face_start = {};
   obj.corner_vertex = {};

@@ -4,10 +4,8 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstring>
-#include <exception>
 #include <map>
 #include <optional>
 #include <set>
@@ -538,28 +536,6 @@ size_t default_chunks(std::string_view text, const ObjReadOptions& options, size
 
 }  // namespace
 
-void run_parallel(size_t n, size_t threads, const std::function<void(size_t)>& f) {
-  if (threads == 0) threads = std::max<size_t>(1, std::thread::hardware_concurrency());
-  std::atomic<size_t> next{0};
-  std::exception_ptr failure;
-  std::atomic<bool> failed{false};
-  auto work = [&] {
-    for (size_t i; (i = next.fetch_add(1)) < n;) {
-      try {
-        f(i);
-      } catch (...) {
-        if (!failed.exchange(true)) failure = std::current_exception();
-      }
-    }
-  };
-  {
-    std::vector<std::jthread> pool;
-    for (size_t t = 1; t < std::min(threads, n); ++t) pool.emplace_back(work);
-    work();
-  }
-  if (failure) std::rethrow_exception(failure);
-}
-
 std::vector<size_t> split_obj_chunks(std::string_view text, size_t chunks) {
   chunks = std::max<size_t>(1, chunks);
   std::vector<size_t> bounds(chunks + 1, text.size());
@@ -597,13 +573,13 @@ ObjData read_obj(std::string_view text, const std::string& file, tinyobj::Materi
     fail(file, "more than 2^31 vertices or face corners: too many for one mesh");
 
   ObjData out;
-  out.positions.resize(total.of[kVertex]);
-  out.texcoords.resize(total.of[kTexcoord]);
-  out.normals.resize(total.of[kNormal]);
-  out.face_start.resize(total.faces + 1);
-  out.corner_vertex.resize(total.corners);
-  if (total.of[kTexcoord] > 0) out.corner_texcoord.resize(total.corners);
-  if (total.of[kNormal] > 0) out.corner_normal.resize(total.corners);
+  resize_in_huge_pages(out.positions, total.of[kVertex]);
+  resize_in_huge_pages(out.texcoords, total.of[kTexcoord]);
+  resize_in_huge_pages(out.normals, total.of[kNormal]);
+  resize_in_huge_pages(out.face_start, total.faces + 1);
+  resize_in_huge_pages(out.corner_vertex, total.corners);
+  if (total.of[kTexcoord] > 0) resize_in_huge_pages(out.corner_texcoord, total.corners);
+  if (total.of[kNormal] > 0) resize_in_huge_pages(out.corner_normal, total.corners);
   run_parallel(n, threads, [&](size_t i) { parse_chunk(chunk_text(i), before[i], out, chunks[i]); });
 
   if (std::any_of(chunks.begin(), chunks.end(), [](const Chunk& c) { return c.check_problem; })) {
@@ -624,7 +600,7 @@ ObjData read_obj(std::string_view text, const std::string& file, tinyobj::Materi
   }
 
   // usemtl, mtllib, groups, lines and points in file order.
-  out.face_material.resize(total.faces);
+  resize_in_huge_pages(out.face_material, total.faces);
   Replay replay(mtl, out);
   for (size_t i = 0; i < n; ++i) {
     for (const Event& e : chunks[i].events) replay.event(e, e.face);

@@ -14,11 +14,11 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "glint/io/mesh/common.h"  // run_parallel
 #include "glint/io/mesh/mesh_builder.h"
 
 namespace glint::mesh_io {
@@ -55,11 +55,6 @@ struct ObjReadOptions {
 // messages of find_obj_bad_statement.
 ObjData read_obj(std::string_view text, const std::string& file, tinyobj::MaterialReader* mtl,
                  const ObjReadOptions& options = {});
-
-// Runs f(0) .. f(n - 1) on up to `threads` threads (0: one per hardware
-// thread); each f(i) must write only its own results. The first exception
-// thrown is rethrown once all are done.
-void run_parallel(size_t n, size_t threads, const std::function<void(size_t)>& f);
 
 // The chunk boundaries read_obj uses: `chunks` + 1 offsets from 0 to
 // text.size(), each (but the ends) just after a '\n', so a "\r\n" is never
