@@ -50,7 +50,7 @@ class ApiFrames : public ::testing::Test {
             std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    fs::copy_file(std::string(GLINT_SOURCE_DIR) + "/scenes/meshes/bunny.obj", dir_ / "bunny.obj");
+    fs::copy_file(fs::path(GLINT_SOURCE_DIR) / "scenes" / "meshes" / "bunny.obj", dir_ / "bunny.obj");
   }
   void TearDown() override { fs::remove_all(dir_); }
 
