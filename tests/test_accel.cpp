@@ -248,10 +248,10 @@ TEST(MeshBvh, SameClosestHitsAsBruteForceOnRandomRays) {
 }
 
 // The build's threads (parallel subtrees, refs filled in parts, the root's
-// subtrees collapsed at once) change nothing: the same structure (bytes) and
-// the same hits, to the bit, for any thread count. (Through the Accelerator:
-// the tree's own types depend on the library's SIMD width, which this file
-// is not compiled for.)
+// subtrees collapsed at once) change nothing: the same nodes and blocks
+// (their bytes' digest) and the same hits, to the bit, for any thread count.
+// (Through the library: the tree's own types depend on its SIMD width, which
+// this file is not compiled for.)
 TEST(MeshBvh, SameTreeForEveryThreadCount) {
   Rng rng(11);
   Mesh soup;
@@ -268,6 +268,9 @@ TEST(MeshBvh, SameTreeForEveryThreadCount) {
   soup.triangle_material.assign(soup.triangle_count(), 0);
   Scene scene;
   add_mesh_object(scene, add_mesh(scene, std::move(soup)), 0, true);
+  BvhBuildOptions one_thread;
+  one_thread.threads = 1;
+  const uint64_t digest = mesh_bvh_digest(scene.meshes[0], one_thread);
   const auto reference = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
   std::vector<Ray> rays;
   for (int i = 0; i < 5000; ++i) {
@@ -275,6 +278,9 @@ TEST(MeshBvh, SameTreeForEveryThreadCount) {
     rays.push_back(make_ray(o, Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5)));
   }
   for (int threads : {2, 3, 8}) {
+    BvhBuildOptions options;
+    options.threads = threads;
+    EXPECT_EQ(mesh_bvh_digest(scene.meshes[0], options), digest) << threads << " threads";
     const auto bvh = build_accelerator(scene, AcceleratorOptions{threads, AccelBackend::bvh});
     EXPECT_EQ(bvh->memory_bytes(), reference->memory_bytes()) << threads << " threads";
     int hits = 0;

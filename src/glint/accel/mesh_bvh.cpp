@@ -78,8 +78,22 @@ MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options) {
   for (int t = 1; t < threads; ++t) pool.emplace_back(fill, nodes * t / threads, nodes * (t + 1) / threads);
   fill(0, nodes / threads);
   for (std::thread& t : pool) t.join();
-  out.bvh.primitives = {};  // the blocks carry the triangle indices
+  // The blocks carry the triangle indices. (A fresh vector frees the memory;
+  // `= {}` would keep the capacity.)
+  out.bvh.primitives = std::vector<uint32_t>();
   return out;
+}
+
+uint64_t mesh_bvh_digest(const Mesh& mesh, const BvhBuildOptions& options) {
+  const MeshBvh bvh = build_mesh_bvh(mesh, options);
+  uint64_t hash = 0xcbf29ce484222325ull;
+  auto add = [&hash](const void* data, size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i) hash = (hash ^ p[i]) * 0x100000001b3ull;
+  };
+  add(bvh.bvh.nodes.data(), bvh.bvh.nodes.size() * sizeof(BvhNode));
+  add(bvh.blocks.data(), bvh.blocks.size() * sizeof(Triangle4));
+  return hash;
 }
 
 namespace {

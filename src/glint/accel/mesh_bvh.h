@@ -27,6 +27,11 @@ struct MeshBvh {
 
 MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options = {});
 
+// A digest (64-bit FNV-1a) of the bytes of the nodes and blocks that
+// build_mesh_bvh(mesh, options) makes: lets the tests, which are not compiled
+// for the library's SIMD width and so cannot hold a MeshBvh, compare trees.
+uint64_t mesh_bvh_digest(const Mesh& mesh, const BvhBuildOptions& options);
+
 // The nearest triangle hit in (ray.t_min, ray.t_max), in float: its index,
 // distance and where its vertices are (`slot` = block * 4 + lane in
 // MeshBvh::blocks, already in cache, so shading need not read the mesh

@@ -66,6 +66,7 @@ struct FloatBox {
   float lo[3], hi[3];
 };
 // As build_bvh, over `count` primitives whose boxes `box_of(i)` gives.
+// `box_of` is called from the build's threads at once and must not throw.
 Bvh build_bvh_over_float_boxes(size_t count, const std::function<FloatBox(size_t)>& box_of,
                                const BvhBuildOptions& options = {}, const Vec3& origin_hint = Vec3(0.0));
 

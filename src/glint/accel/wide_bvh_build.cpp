@@ -472,7 +472,7 @@ Bvh build_from_refs(PrimRefs refs, const Bounds3& scene, const BvhBuildOptions& 
   bvh.primitives.resize(refs.size());
   for (size_t i = 0; i < refs.size(); ++i) bvh.primitives[i] = refs[i].id;
   const size_t refs_count = refs.size();
-  refs = {};
+  refs = PrimRefs();  // freed before the collapse (`= {}` would keep the capacity)
   // Rays are tested in float: pad boxes by more than the float rounding of
   // coordinates as large as the scene's (and the camera's) farthest point.
   const double extent =

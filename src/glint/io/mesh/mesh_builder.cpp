@@ -290,7 +290,7 @@ MeshFile finish(RawMesh raw, const std::string& file, bool vertex_normals, const
   const size_t triangles = raw.indices.size() / 3;
   if (triangles == 0) fail_without_triangles(raw, file);
   const size_t per_run = std::max<size_t>(1, options.triangles_per_run);
-  const Runs runs{triangles, (triangles + per_run - 1) / per_run};
+  const Runs runs{triangles, triangles / per_run + (triangles % per_run != 0)};
 
   // Checks, zero-area triangles, used vertices, the file's normals made unit.
   std::vector<RunScan> scans(runs.count);

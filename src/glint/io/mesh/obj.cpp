@@ -129,15 +129,17 @@ void add_obj_faces(const ObjData& obj, size_t triangles, RawMesh& raw) {
 }
 
 // The per-corner arrays are done with once the triangles are made: freed
-// before finish(), so that they are not held at the load's peak.
+// before finish(), so that they are not held at the load's peak. (Assigning
+// fresh vectors: `v = {}` would pick the initializer-list assignment, which
+// keeps the capacity.)
 void release_corners(ObjData& obj) {
-  obj.face_start = {};
-  obj.corner_vertex = {};
-  obj.corner_texcoord = {};
-  obj.corner_normal = {};
-  obj.face_material = {};
-  obj.normals = {};
-  obj.texcoords = {};
+  obj.face_start = decltype(obj.face_start)();
+  obj.corner_vertex = decltype(obj.corner_vertex)();
+  obj.corner_texcoord = decltype(obj.corner_texcoord)();
+  obj.corner_normal = decltype(obj.corner_normal)();
+  obj.face_material = decltype(obj.face_material)();
+  obj.normals = decltype(obj.normals)();
+  obj.texcoords = decltype(obj.texcoords)();
 }
 
 // Missing material libraries, and usemtl names none of them has: one warning each.
