@@ -563,6 +563,60 @@ TEST(TriangleLeaves, SameAnswersAsBruteForce) {
   EXPECT_GT(blocked, 200);
 }
 
+// Infinite planes are tested before the tree from their own numbers, with
+// the division skipped when the crossing is behind the origin: the same
+// closest hits (object, t bit for bit), occlusion and packet hits as testing
+// every object, for rays from on, above and below the planes, parallel to
+// them, and with negative, zero and positive t_min.
+TEST(PlaneSlots, SameAnswersAsBruteForce) {
+  Scene scene;
+  Mesh sphere = icosphere(2, 1.0);
+  add_mesh_object(scene, add_mesh(scene, std::move(sphere)), 0, true, std::nullopt);
+  add_plane(scene, Plane{{0, -1.5, 0}, {0, 1, 0}});
+  add_plane(scene, Plane{{0, 0, -4}, normalize(Vec3(0.2, 0.1, 1))});
+  add_plane(scene, Plane{{3, 0, 0}, normalize(Vec3(-1, 0.3, 0))});
+  const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
+  const auto brute = build_brute_force(scene);
+  Rng rng(7);
+  int hits = 0, plane_hits = 0, blocked = 0;
+  for (int i = 0; i < 4000; i += kPacketSize) {
+    Ray rays[kPacketSize];
+    for (int k = 0; k < kPacketSize; ++k) {
+      Ray& ray = rays[k];
+      ray.origin = Vec3(rng.next_double() * 8 - 4, rng.next_double() * 8 - 4, rng.next_double() * 8 - 4);
+      ray.direction = Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5);
+      const int kind = (i / kPacketSize + k) % 5;
+      if (kind == 1) ray.origin.y = -1.5;  // on the floor: the crossing is at t = 0
+      if (kind == 2) ray.direction.y = 0;  // parallel to the floor
+      if (kind == 3) ray.t_min = -2.0;     // planes behind the origin count
+      if (kind == 4) ray.t_min = 0.5;
+    }
+    std::optional<Hit> packet[kPacketSize];
+    bvh->intersect_packet(rays, kPacketSize, packet);
+    for (int k = 0; k < kPacketSize; ++k) {
+      Ray ray = rays[k];
+      const auto a = bvh->intersect(ray), b = brute->intersect(ray);
+      ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << i + k;
+      ASSERT_EQ(packet[k].has_value(), b.has_value()) << "ray " << i + k;
+      if (b) {
+        ++hits;
+        plane_hits += b->object != 0;
+        EXPECT_EQ(a->object, b->object) << "ray " << i + k;
+        EXPECT_EQ(a->t, b->t) << "ray " << i + k;
+        EXPECT_EQ(packet[k]->object, b->object) << "ray " << i + k;
+        EXPECT_EQ(packet[k]->t, b->t) << "ray " << i + k;
+      }
+      ray.t_max = 0.5 + 3 * rng.next_double();  // a shadow ray's segment
+      const bool occluded = brute->occluded(ray);
+      blocked += occluded;
+      EXPECT_EQ(bvh->occluded(ray), occluded) << "ray " << i + k;
+    }
+  }
+  EXPECT_GT(plane_hits, 1500);
+  EXPECT_GT(hits - plane_hits, 80);
+  EXPECT_GT(blocked, 400);
+}
+
 TEST(Packets, SameHitsAsSingleRays) {
   Scene scene;
   Mesh sphere = icosphere(4, 1.0);  // 5120 triangles

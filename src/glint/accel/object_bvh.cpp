@@ -34,6 +34,20 @@ inline void set_hit(Hit& hit, double t, uint32_t object, double b1, double b2, i
   hit.primitive = primitive;
 }
 
+// intersect_plane's crossing (the same arithmetic, so the same t), without
+// its division when the sign already says the crossing is behind the
+// origin: num / denom <= 0 (or NaN) never exceeds a t_min >= 0. Shadow and
+// reflected rays leaving a floor are most of a scene's plane tests.
+inline bool plane_crossing(const Plane& p, const Ray& ray, double& t) {
+  const double denom = dot(p.normal, ray.direction);
+  if (denom == 0.0) return false;
+  const double num = dot(p.normal, p.point - ray.origin);
+  const bool ahead = (num > 0.0 && denom > 0.0) || (num < 0.0 && denom < 0.0);
+  if (!ahead && ray.t_min >= 0.0) return false;
+  t = num / denom;
+  return t > ray.t_min && t < ray.t_max;
+}
+
 // Closest hit among a mesh's triangles (ray in the mesh's space): through its
 // BVH when there is one (float blocks, then the winner refined in double),
 // else every triangle in double.
@@ -191,7 +205,8 @@ class BvhAccelerator final : public Accelerator {
     for (const Mesh& mesh : scene.meshes) mesh_bvhs_.push_back(build_mesh_bvh(mesh, build_options));
     std::vector<Bounds3> bounds(scene.objects.size());
     for (uint32_t i = 0; i < scene.objects.size(); ++i) {
-      if (scene.objects[i].type == ShapeType::plane) planes_.push_back(i);
+      if (scene.objects[i].type == ShapeType::plane)
+        planes_.push_back({scene.planes[scene.objects[i].shape], i, scene.objects[i].transform != kNoTransform});
       else bounds[i] = object_bounds(scene, i);
     }
     bvh_ = build_bvh(bounds, build_options, scene.camera.position);
@@ -246,9 +261,19 @@ class BvhAccelerator final : public Accelerator {
     std::optional<Hit> result(std::in_place);
     Hit& best = *result;
     bool found = false;
-    for (uint32_t p : planes_) {
-      if (intersect_object(scene_, p, ray, best)) {
-        ray.t_max = best.t;
+    for (const PlaneSlot& p : planes_) {
+      if (p.transformed) {
+        if (intersect_object(scene_, p.object, ray, best)) {
+          ray.t_max = best.t;
+          found = true;
+        }
+        continue;
+      }
+      double t = 0;
+      if (plane_crossing(p.plane, ray, t)) {
+        set_hit(best, t, p.object, 0, 0, 0, 0);
+        best.vertices = {};
+        ray.t_max = t;
         found = true;
       }
     }
@@ -305,9 +330,10 @@ class BvhAccelerator final : public Accelerator {
     if (!planes_.empty() || object.transform != kNoTransform) {
       for (int i = 0; i < count; ++i) {
         Ray ray = rays[i];
-        for (uint32_t p : planes_) {
+        for (const PlaneSlot& p : planes_) {
           Hit h;
-          if (intersect_object(scene_, p, ray, h)) {
+          if (p.transformed ? intersect_object(scene_, p.object, ray, h) : plane_crossing(p.plane, ray, h.t)) {
+            h.object = p.object;
             ray.t_max = h.t;
             hits[i] = h;
           }
@@ -356,8 +382,11 @@ class BvhAccelerator final : public Accelerator {
 
   // The first object found to block the ray, leaving out `skip` (known not to).
   std::optional<uint32_t> first_blocker_except(const Ray& ray, uint32_t skip) const {
-    for (uint32_t p : planes_)
-      if (p != skip && occludes_object(scene_, p, ray)) return p;
+    for (const PlaneSlot& p : planes_) {
+      if (p.object == skip) continue;
+      double t = 0;
+      if (p.transformed ? occludes_object(scene_, p.object, ray) : plane_crossing(p.plane, ray, t)) return p.object;
+    }
     if (single_mesh_ != kNone)
       return single_mesh_ != skip && occludes_object(scene_, single_mesh_, ray, &mesh_bvhs_)
                  ? std::optional<uint32_t>(single_mesh_)
@@ -391,7 +420,7 @@ class BvhAccelerator final : public Accelerator {
   size_t memory_bytes() const override {
     size_t bytes = bvh_.nodes.capacity() * sizeof(BvhNode) + bvh_.primitives.capacity() * sizeof(uint32_t) +
                    slots_.capacity() * sizeof(Slot) + leaf_.capacity() * sizeof(uint32_t) +
-                   triangle_leaves_.capacity() * sizeof(TriangleLeaf) + planes_.capacity() * sizeof(uint32_t);
+                   triangle_leaves_.capacity() * sizeof(TriangleLeaf) + planes_.capacity() * sizeof(PlaneSlot);
     for (const MeshBvh& b : mesh_bvhs_) bytes += b.memory_bytes();
     return bytes;
   }
@@ -406,8 +435,14 @@ class BvhAccelerator final : public Accelerator {
     uint32_t object = 0;
     bool is_sphere = false;
   };
+  // An infinite plane, tested before the tree (its own numbers, as for spheres).
+  struct PlaneSlot {
+    Plane plane;
+    uint32_t object = 0;
+    bool transformed = false;  // never made by the loader; tested through intersect_object
+  };
   const Scene& scene_;
-  std::vector<uint32_t> planes_;
+  std::vector<PlaneSlot> planes_;
   uint32_t single_mesh_ = kNone;
   std::vector<MeshBvh> mesh_bvhs_;
   Bvh bvh_;
