@@ -52,6 +52,13 @@ class Accelerator {
   // kNoShadowBlocker, and setting `cache` to the blocker found otherwise:
   // the same answer, sooner when rays in a row are blocked by one object.
   virtual bool occluded_cached(const Ray& ray, uint32_t& /*cache*/) const { return occluded(ray); }
+  // occluded_cached for up to kPacketSize shadow rays at once (from the
+  // points of neighbouring pixels toward one light): blocked[i] is
+  // occluded(rays[i]), which is what the default asks ray by ray. Our BVH
+  // traces a packet together when the scene is one mesh object (and planes).
+  virtual void occluded_packet(const Ray* rays, int count, bool* blocked, uint32_t& cache) const {
+    for (int i = 0; i < count; ++i) blocked[i] = occluded_cached(rays[i], cache);
+  }
   // Bytes held by the acceleration structure itself (not the scene).
   virtual size_t memory_bytes() const = 0;
 };

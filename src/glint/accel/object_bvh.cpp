@@ -366,6 +366,40 @@ class BvhAccelerator final : public Accelerator {
 
   bool occluded(const Ray& ray) const override { return first_blocker(ray).has_value(); }
 
+  void occluded_packet(const Ray* rays, int count, bool* blocked, uint32_t& cache) const override {
+    if (single_mesh_ == kNone || count > kPacketSize) return Accelerator::occluded_packet(rays, count, blocked, cache);
+    // Planes ray by ray; the rays they leave open go through the mesh as one
+    // packet: blocked when the packet's closest-hit kernel finds any hit in
+    // the ray's interval, which is exactly when occluded_mesh_bvh finds one
+    // (the same float triangle test and interval, every leaf the ray's box
+    // test reaches).
+    const Object& object = scene_.objects[single_mesh_];
+    const MeshBvh& mesh_bvh = mesh_bvhs_[object.shape];
+    Ray open[kPacketSize];
+    int index[kPacketSize];
+    int n = 0;
+    for (int i = 0; i < count; ++i) {
+      blocked[i] = false;
+      for (const PlaneSlot& p : planes_) {
+        double t = 0;
+        if (p.transformed ? occludes_object(scene_, p.object, rays[i]) : plane_crossing(p.plane, rays[i], t)) {
+          blocked[i] = true;
+          break;
+        }
+      }
+      if (blocked[i]) continue;
+      open[n] = to_object_space(scene_, object, rays[i]);
+      index[n++] = i;
+    }
+    if (n == 0) return;
+    RayPacket packet = make_ray_packet(open, n);
+    if (!intersect_mesh_packet(mesh_bvh, packet)) {
+      for (int k = 0; k < n; ++k) blocked[index[k]] = occluded_mesh_bvh(mesh_bvh, open[k]);
+      return;
+    }
+    for (int k = 0; k < n; ++k) blocked[index[k]] = packet.triangle[k] != kNoTriangle;
+  }
+
   bool occluded_cached(const Ray& ray, uint32_t& cache) const override {
     // Any blocker answers an any-hit query, so the cached one, when it
     // blocks, gives the same answer as the traversal.

@@ -347,7 +347,10 @@ ShadingPoint shading_point(const Scene& scene, const Ray& ray, const Hit& hit, d
 
 Integrator::Integrator(const Scene& scene, const Accelerator& accel)
     : scene_(scene), accel_(accel), epsilon_(scene.render.epsilon.value_or(auto_epsilon(scene))) {
-  for (const Light& light : scene.lights) cos_cutoff_.push_back(std::cos(light.cutoff * std::numbers::pi / 180.0));
+  for (const Light& light : scene.lights) {
+    cos_cutoff_.push_back(std::cos(light.cutoff * std::numbers::pi / 180.0));
+    if (light.type == LightType::area) shades_packets_ = false;
+  }
 }
 
 template <class Recorder>
@@ -405,13 +408,99 @@ CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::opt
   return out;
 }
 
+// A light sample up to its shadow ray (Integrator::prepare_light_sample).
+struct PreparedSample {
+  Vec3 l;  // unit, toward the light
+  double n_dot_l = 0;
+  double scale = 1;  // the sample's weight, spot factor and attenuation
+  Ray shadow;
+};
+
+void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* hits, int count, TraceContext& ctx,
+                                   Color* colors) const {
+  // shade() for each ray, light by light across the rays: the same terms
+  // added in the same order for each pixel, and no pixel's numbers depend on
+  // another's (without area lights nothing draws random numbers).
+  NoRecorder rec;
+  ShadingPoint at[kPacketSize];
+  ShadeTerms out[kPacketSize];
+  bool shaded[kPacketSize] = {};
+  for (int i = 0; i < count; ++i) {
+    if (!hits[i]) continue;
+    ctx.stats.camera_hits++;
+    at[i] = shading_point(scene_, rays[i], *hits[i], epsilon_);
+    if (scene_.materials[at[i].sp.material].unlit) {
+      out[i].ambient = at[i].sp.reflectance.diffuse;
+      continue;
+    }
+    shaded[i] = true;
+  }
+  for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
+    const Light& light = scene_.lights[li];
+    ShadeTerms terms[kPacketSize];
+    LightSample sample[kPacketSize];
+    PreparedSample prepared[kPacketSize];
+    Ray shadow[kPacketSize];
+    int pixel[kPacketSize];
+    int asked = 0;
+    for (int i = 0; i < count; ++i) {
+      if (!shaded[i]) continue;
+      terms[i].ambient = at[i].sp.reflectance.ambient * light.ambient;
+      if (light.type == LightType::ambient) continue;
+      if (light.type == LightType::directional) {
+        sample[i] = LightSample{li, -light.direction, kInfinity, 0.0, 1.0};
+      } else {
+        const Vec3 to_light = light.position - at[i].sp.p;
+        sample[i] = LightSample{li, to_light, 1.0, length(to_light), 1.0};
+      }
+      if (!prepare_light_sample(at[i], sample[i], prepared[i], rec)) continue;
+      ctx.stats.shadow++;
+      shadow[asked] = prepared[i].shadow;
+      pixel[asked++] = i;
+    }
+    if (asked > 0) {
+      bool blocked[kPacketSize];
+      uint32_t no_cache = kNoShadowBlocker;
+      accel_.occluded_packet(shadow, asked, blocked, li < ctx.shadow_cache.size() ? ctx.shadow_cache[li] : no_cache);
+      for (int k = 0; k < asked; ++k)
+        if (!blocked[k]) add_lit_sample(at[pixel[k]], sample[pixel[k]], prepared[pixel[k]], terms[pixel[k]], rec);
+    }
+    for (int i = 0; i < count; ++i) {
+      if (!shaded[i]) continue;
+      out[i].ambient += terms[i].ambient;
+      out[i].diffuse += terms[i].diffuse;
+      out[i].specular += terms[i].specular;
+    }
+  }
+  for (int i = 0; i < count; ++i) {
+    if (shaded[i]) add_secondary_rays(at[i], 1, ctx, rec, out[i]);
+    colors[i] = hits[i] ? out[i].sum() : scene_.render.background;
+  }
+}
+
 template <class LightRecorder>
 void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, ShadeTerms& out, TraceContext& ctx,
                                   LightRecorder& rec) const {
+  PreparedSample prepared;
+  if (!prepare_light_sample(at, s, prepared, rec)) return;
+  ctx.stats.shadow++;
+  // The shadow cache serves point, spot and directional lights; an area
+  // light's samples spread over its surface and mostly pass the last blocker
+  // by (with the cache, a soft-shadow scene rendered 12% slower).
+  const Light& light = scene_.lights[s.light];
+  uint32_t* cache =
+      light.type != LightType::area && s.light < ctx.shadow_cache.size() ? &ctx.shadow_cache[s.light] : nullptr;
+  if (rec.blocked(accel_, prepared.shadow, cache)) return;
+  add_lit_sample(at, s, prepared, out, rec);
+}
+
+template <class LightRecorder>
+bool Integrator::prepare_light_sample(const ShadingPoint& at, const LightSample& s, PreparedSample& out,
+                                      LightRecorder& rec) const {
   const Light& light = scene_.lights[s.light];
   const Vec3 l = normalize(s.to_light);
   const double n_dot_l = dot(at.n, l);
-  if (!(n_dot_l > 0.0)) return;
+  if (!(n_dot_l > 0.0)) return false;
 
   double scale = s.weight;
   if (light.type == LightType::spot) {
@@ -419,7 +508,7 @@ void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, 
     // The cone's edge counts as inside; the tolerance absorbs rounding.
     if (cos_angle < cos_cutoff_[s.light] - 1e-12) {
       rec.spot_factor(0);
-      return;
+      return false;
     }
     if (light.falloff != 0.0) {
       const double factor = std::pow(std::max(0.0, cos_angle), light.falloff);
@@ -434,19 +523,23 @@ void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, 
     rec.attenuation_denominator(denominator);
   }
 
-  Ray shadow;
+  out.l = l;
+  out.n_dot_l = n_dot_l;
+  out.scale = scale;
+  Ray& shadow = out.shadow;
   shadow.origin = at.above;
   shadow.direction = light.type == LightType::directional ? l : s.to_light + (at.sp.p - at.above);
   shadow.t_min = 0.0;
   shadow.t_max = s.shadow_t_max;
-  ctx.stats.shadow++;
-  // The shadow cache serves point, spot and directional lights; an area
-  // light's samples spread over its surface and mostly pass the last blocker
-  // by (with the cache, a soft-shadow scene rendered 12% slower).
-  uint32_t* cache =
-      light.type != LightType::area && s.light < ctx.shadow_cache.size() ? &ctx.shadow_cache[s.light] : nullptr;
-  if (rec.blocked(accel_, shadow, cache)) return;
+  return true;
+}
 
+template <class LightRecorder>
+void Integrator::add_lit_sample(const ShadingPoint& at, const LightSample& s, const PreparedSample& prepared,
+                                ShadeTerms& out, LightRecorder& rec) const {
+  const Light& light = scene_.lights[s.light];
+  const Vec3& l = prepared.l;
+  const double n_dot_l = prepared.n_dot_l, scale = prepared.scale;
   const Material& m = scene_.materials[at.sp.material];
   const Reflectances& r = at.sp.reflectance;
   out.diffuse += (scale * n_dot_l) * (r.diffuse * light.diffuse);

@@ -109,6 +109,7 @@ struct RayTrace {
 // point (or direction) a light shines from (integrator.cpp).
 struct ShadingPoint;
 struct LightSample;
+struct PreparedSample;
 
 class Integrator {
  public:
@@ -127,6 +128,16 @@ class Integrator {
   // with the other rays of its packet: Accelerator::intersect_packet).
   Color cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth, TraceContext& ctx) const;
   CameraSample cast_camera_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, TraceContext& ctx) const;
+
+  // cast_ray_with_hit for up to kPacketSize camera rays of neighbouring
+  // pixels (their first hits found as a packet): each ray shaded as there,
+  // but the shadow rays of all of them toward one light are asked as one
+  // packet (Accelerator::occluded_packet). colors[i] is cast_ray_with_hit's
+  // color for rays[i], bit for bit. Only for scenes where shades_packets():
+  // without area lights, whose samples draw each pixel's random numbers.
+  bool shades_packets() const { return shades_packets_; }
+  void cast_camera_packet(const Ray* rays, const std::optional<Hit>* hits, int count, TraceContext& ctx,
+                          Color* colors) const;
 
   double epsilon() const { return epsilon_; }
 
@@ -149,6 +160,15 @@ class Integrator {
   template <class LightRecorder>
   void add_light_sample(const ShadingPoint& at, const LightSample& sample, ShadeTerms& out, TraceContext& ctx,
                         LightRecorder& rec) const;
+  // add_light_sample's two halves around its shadow query: the sample's
+  // shadow ray and scale (false: it cannot light the point), and its diffuse
+  // and specular once the ray is known unblocked.
+  template <class LightRecorder>
+  bool prepare_light_sample(const ShadingPoint& at, const LightSample& sample, PreparedSample& out,
+                            LightRecorder& rec) const;
+  template <class LightRecorder>
+  void add_lit_sample(const ShadingPoint& at, const LightSample& sample, const PreparedSample& prepared,
+                      ShadeTerms& out, LightRecorder& rec) const;
   // The weighted reflected and refracted rays, into out.reflection and out.transmission.
   template <class Recorder>
   void add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec, ShadeTerms& out) const;
@@ -157,6 +177,7 @@ class Integrator {
   const Accelerator& accel_;
   double epsilon_;
   std::vector<double> cos_cutoff_;  // per light: cos of a spot light's cutoff
+  bool shades_packets_ = true;
 };
 
 }  // namespace glint

@@ -167,6 +167,19 @@ void render_first_pass_row(const PixelContext& pc, const Accelerator& accel, int
     std::optional<Hit> hits[kPacketSize];
     for (int i = 0; i < n; ++i) rays[i] = center_ray(pc, x + i, y);
     accel.intersect_packet(rays, n, hits);
+    if ((!passes || passes->empty()) && pc.integrator.shades_packets()) {
+      // Shaded together (their shadow rays as packets); each pixel stored
+      // as render_pixel_with stores it: the one sample's sum, divided by 1.
+      Color colors[kPacketSize];
+      pc.integrator.cast_camera_packet(rays, hits, n, ctx, colors);
+      for (int i = 0; i < n; ++i) {
+        ctx.stats.camera++;
+        PixelSums sums;
+        sums.color += 1.0 * colors[i];
+        store(image, x + i, y, sums.color / 1.0);
+      }
+      continue;
+    }
     for (int i = 0; i < n; ++i) render_pixel_into(pc, x + i, y, 1, ctx, image, passes, &hits[i]);
   }
 }
