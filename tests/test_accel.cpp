@@ -575,6 +575,11 @@ TEST(PlaneSlots, SameAnswersAsBruteForce) {
   add_plane(scene, Plane{{0, -1.5, 0}, {0, 1, 0}});
   add_plane(scene, Plane{{0, 0, -4}, normalize(Vec3(0.2, 0.1, 1))});
   add_plane(scene, Plane{{3, 0, 0}, normalize(Vec3(-1, 0.3, 0))});
+  // The loader bakes a plane's transform into its numbers; one given by hand
+  // is tested through intersect_object.
+  add_plane(scene, Plane{{0, 5, 0}, {0, -1, 0}});
+  scene.transforms.push_back(Transform::rotate(normalize(Vec3(1, 0, 0.5)), 20.0));
+  scene.objects.back().transform = static_cast<uint32_t>(scene.transforms.size() - 1);
   const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
   const auto brute = build_brute_force(scene);
   Rng rng(7);

@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cstring>
 #include <filesystem>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,8 @@
 #include "glint/math/rng.h"
 #include "glint/render/camera.h"
 #include "glint/render/integrator.h"
+#include "glint/render/passes.h"
+#include "glint/render/renderer.h"
 
 namespace glint {
 namespace {
@@ -104,6 +108,43 @@ TEST(CameraPackets, SameColorsAsRayByRayOnOneMesh) {
   }
 }
 
+// More lights than the shadow cache has slots (kShadowCacheLights): the
+// packet path asks the lights past it without a cache, as the single path.
+TEST(CameraPackets, SameColorsWithMoreLightsThanCacheSlots) {
+  Scene scene = load_one_bunny("");
+  const Light point = scene.lights[1];
+  for (int i = 0; i < 20; ++i) {
+    Light more = point;
+    more.position = point.position + Vec3(0.7 * i - 7, 0.1 * i, -0.3 * i);
+    more.diffuse = more.specular = Color(0.05);
+    scene.lights.push_back(more);
+  }
+  ASSERT_GT(scene.lights.size(), kShadowCacheLights);
+  const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
+  expect_same_colors(scene, *bvh, "24 lights");
+}
+
+// Through the renderer: the 1-spp image and ray counts of the packet path
+// (no passes asked) are those of the pixel-by-pixel path (passes asked).
+TEST(CameraPackets, RenderedImageEqualsThePixelByPixelRender) {
+  const Scene scene = load_one_bunny("");
+  const auto accel = build_accelerator(scene, AcceleratorOptions{2, AccelBackend::bvh});
+  RenderOptions options;
+  options.threads = 2;
+  RenderStats packet_stats, single_stats;
+  const Image packets = render_image(scene, *accel, options, &packet_stats);
+  Image single(scene.render.width, scene.render.height);
+  PassImages passes({Pass::depth}, scene.render.width, scene.render.height);
+  TileProgress tiles(scene.render.width, scene.render.height, 16);
+  ASSERT_TRUE(render_tiles(scene, *accel, single, tiles, options, &single_stats, &passes));
+  ASSERT_EQ(packets.rgb.size(), single.rgb.size());
+  EXPECT_EQ(std::memcmp(packets.rgb.data(), single.rgb.data(), packets.rgb.size() * sizeof(float)), 0);
+  EXPECT_EQ(packet_stats.rays.camera, single_stats.rays.camera);
+  EXPECT_EQ(packet_stats.rays.camera_hits, single_stats.rays.camera_hits);
+  EXPECT_EQ(packet_stats.rays.shadow, single_stats.rays.shadow);
+  EXPECT_EQ(packet_stats.rays.reflection, single_stats.rays.reflection);
+}
+
 TEST(CameraPackets, SameColorsAsRayByRayOnTheExampleScenes) {
   int scenes = 0;
   for (const auto& entry : fs::recursive_directory_iterator(fs::path(GLINT_SOURCE_DIR) / "scenes")) {
@@ -140,9 +181,11 @@ TEST(OccludedPacket, SameAnswersAsOccluded) {
   for (const std::string& transform :
        {std::string(), std::string(R"(, "transform": {"rotate": {"axis": [1, 0, 0], "angle": 15}, "translate": [0.5, 0, 0]})")}) {
     const Scene scene = load_one_bunny(transform, wall);
-    std::vector<Vec3> targets;
+    // Toward each point light's position (t_max 1), and along a direction
+    // (t_max infinite), as a directional light's shadow rays go.
+    std::vector<std::pair<Vec3, bool>> targets = {{Vec3(-0.3, 1, 0.4), true}};
     for (const Light& light : scene.lights)
-      if (light.type == LightType::point || light.type == LightType::spot) targets.push_back(light.position);
+      if (light.type == LightType::point || light.type == LightType::spot) targets.push_back({light.position, false});
     const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
     const int w = 96, h = 64;
     const CameraFrame frame = make_camera_frame(scene.camera, w, h);
@@ -150,7 +193,7 @@ TEST(OccludedPacket, SameAnswersAsOccluded) {
     int asked = 0, blocked_count = 0, mesh_blocked = 0;
     for (int y = 0; y < h; ++y) {
       for (int x0 = 0; x0 < w; x0 += kPacketSize) {
-        for (const Vec3& target : targets) {
+        for (const auto& [target, direction] : targets) {
           Ray shadow[kPacketSize];
           int n = 0;
           for (int i = 0; i < kPacketSize && x0 + i < w; ++i) {
@@ -159,8 +202,8 @@ TEST(OccludedPacket, SameAnswersAsOccluded) {
             if (!hit) continue;
             const Vec3 p = ray.origin + (hit->t * (1 - 1e-9)) * ray.direction;
             shadow[n].origin = p;
-            shadow[n].direction = target - p;
-            shadow[n].t_max = 1.0;
+            shadow[n].direction = direction ? target : target - p;
+            shadow[n].t_max = direction ? kInfinity : 1.0;
             ++n;
           }
           bool blocked[kPacketSize];

@@ -345,13 +345,25 @@ ShadingPoint shading_point(const Scene& scene, const Ray& ray, const Hit& hit, d
   return at;
 }
 
+// The one sample of a point, spot or directional light at the point (an
+// area light has many: add_area_light).
+LightSample single_light_sample(const Light& light, uint32_t index, const ShadingPoint& at) {
+  if (light.type == LightType::directional) return LightSample{index, -light.direction, kInfinity, 0.0, 1.0};
+  const Vec3 to_light = light.position - at.sp.p;
+  return LightSample{index, to_light, 1.0, length(to_light), 1.0};
+}
+
 }  // namespace
 
 Integrator::Integrator(const Scene& scene, const Accelerator& accel)
     : scene_(scene), accel_(accel), epsilon_(scene.render.epsilon.value_or(auto_epsilon(scene))) {
   for (const Light& light : scene.lights) {
     cos_cutoff_.push_back(std::cos(light.cutoff * std::numbers::pi / 180.0));
-    if (light.type == LightType::area) shades_packets_ = false;
+    // cast_camera_packet knows the lights of one sample (single_light_sample);
+    // it also never seeds a pixel's random numbers, which only area lights draw.
+    const bool single_sample = light.type == LightType::ambient || light.type == LightType::point ||
+                               light.type == LightType::spot || light.type == LightType::directional;
+    if (!single_sample) shades_packets_ = false;
   }
 }
 
@@ -437,7 +449,12 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
                                    Color* colors) const {
   // shade() for each ray, light by light across the rays: the same terms
   // added in the same order for each pixel, and no pixel's numbers depend on
-  // another's (without area lights nothing draws random numbers).
+  // another's (without area lights nothing draws random numbers). Kept in
+  // step with shade() and light_terms().
+  if (!shades_packets_ || count > kPacketSize) {
+    for (int i = 0; i < count; ++i) colors[i] = cast_ray_with_hit(rays[i], hits[i], 1, ctx);
+    return;
+  }
   NoRecorder rec;
   PacketSlots<ShadingPoint> at;  // set for the rays that hit
   ShadeTerms out[kPacketSize];
@@ -457,29 +474,24 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
     ShadeTerms terms[kPacketSize];
     PacketSlots<LightSample> sample;
     PacketSlots<PreparedSample> prepared;  // set by prepare_light_sample, field by field
-    PacketSlots<Ray> shadow;
+    Ray shadow[kPacketSize];
     int pixel[kPacketSize];
     int asked = 0;
     for (int i = 0; i < count; ++i) {
       if (!shaded[i]) continue;
       terms[i].ambient = at[i].sp.reflectance.ambient * light.ambient;
       if (light.type == LightType::ambient) continue;
-      if (light.type == LightType::directional) {
-        new (&sample[i]) LightSample{li, -light.direction, kInfinity, 0.0, 1.0};
-      } else {
-        const Vec3 to_light = light.position - at[i].sp.p;
-        new (&sample[i]) LightSample{li, to_light, 1.0, length(to_light), 1.0};
-      }
+      new (&sample[i]) LightSample(single_light_sample(light, li, at[i]));
       new (&prepared[i]) PreparedSample;
       if (!prepare_light_sample(at[i], sample[i], prepared[i], rec)) continue;
       ctx.stats.shadow++;
-      new (&shadow[asked]) Ray(prepared[i].shadow);
+      shadow[asked] = prepared[i].shadow;
       pixel[asked++] = i;
     }
     if (asked > 0) {
       bool blocked[kPacketSize];
       uint32_t no_cache = kNoShadowBlocker;
-      accel_.occluded_packet(shadow.values, asked, blocked, li < ctx.shadow_cache.size() ? ctx.shadow_cache[li] : no_cache);
+      accel_.occluded_packet(shadow, asked, blocked, li < ctx.shadow_cache.size() ? ctx.shadow_cache[li] : no_cache);
       for (int k = 0; k < asked; ++k)
         if (!blocked[k]) add_lit_sample(at[pixel[k]], sample[pixel[k]], prepared[pixel[k]], terms[pixel[k]], rec);
     }
@@ -604,13 +616,9 @@ ShadeTerms Integrator::light_terms(const ShadingPoint& at, uint32_t li, TraceCon
   switch (light.type) {
     case LightType::ambient: break;
     case LightType::point:
-    case LightType::spot: {
-      const Vec3 to_light = light.position - at.sp.p;
-      add_light_sample(at, LightSample{li, to_light, 1.0, length(to_light), 1.0}, terms, ctx, light_rec);
-      break;
-    }
+    case LightType::spot:
     case LightType::directional:
-      add_light_sample(at, LightSample{li, -light.direction, kInfinity, 0.0, 1.0}, terms, ctx, light_rec);
+      add_light_sample(at, single_light_sample(light, li, at), terms, ctx, light_rec);
       break;
     case LightType::area: add_area_light(at, li, terms, ctx, light_rec); break;
   }
