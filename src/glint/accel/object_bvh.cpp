@@ -4,6 +4,7 @@
 // because this traversal is their hot caller.
 #include "glint/accel/accelerator.h"
 
+#include <algorithm>
 #include <optional>
 
 #include "glint/accel/mesh_bvh.h"
@@ -379,14 +380,7 @@ class BvhAccelerator final : public Accelerator {
     int index[kPacketSize];
     int n = 0;
     for (int i = 0; i < count; ++i) {
-      blocked[i] = false;
-      for (const PlaneSlot& p : planes_) {
-        double t = 0;
-        if (p.transformed ? occludes_object(scene_, p.object, rays[i]) : plane_crossing(p.plane, rays[i], t)) {
-          blocked[i] = true;
-          break;
-        }
-      }
+      blocked[i] = std::any_of(planes_.begin(), planes_.end(), [&](const PlaneSlot& p) { return blocks(p, rays[i]); });
       if (blocked[i]) continue;
       open[n] = to_object_space(scene_, object, rays[i]);
       index[n++] = i;
@@ -416,11 +410,8 @@ class BvhAccelerator final : public Accelerator {
 
   // The first object found to block the ray, leaving out `skip` (known not to).
   std::optional<uint32_t> first_blocker_except(const Ray& ray, uint32_t skip) const {
-    for (const PlaneSlot& p : planes_) {
-      if (p.object == skip) continue;
-      double t = 0;
-      if (p.transformed ? occludes_object(scene_, p.object, ray) : plane_crossing(p.plane, ray, t)) return p.object;
-    }
+    for (const PlaneSlot& p : planes_)
+      if (p.object != skip && blocks(p, ray)) return p.object;
     if (single_mesh_ != kNone)
       return single_mesh_ != skip && occludes_object(scene_, single_mesh_, ray, &mesh_bvhs_)
                  ? std::optional<uint32_t>(single_mesh_)
@@ -475,6 +466,11 @@ class BvhAccelerator final : public Accelerator {
     uint32_t object = 0;
     bool transformed = false;  // never made by the loader; tested through intersect_object
   };
+  // Whether the plane blocks `ray` (any-hit).
+  bool blocks(const PlaneSlot& p, const Ray& ray) const {
+    double t = 0;
+    return p.transformed ? occludes_object(scene_, p.object, ray) : plane_crossing(p.plane, ray, t);
+  }
   const Scene& scene_;
   std::vector<PlaneSlot> planes_;
   uint32_t single_mesh_ = kNone;
