@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "glint/accel/mesh_bvh.h"
+#include "glint/accel/packet_traversal.h"
 #include "glint/accel/ray_packets.h"
 #include "glint/accel/triangle_leaf.h"
 #include "glint/accel/wide_bvh.h"
@@ -261,64 +262,21 @@ class BvhAccelerator final : public Accelerator {
     // Filled in place and returned as is (no copy of the Hit: see set_hit).
     std::optional<Hit> result(std::in_place);
     Hit& best = *result;
-    bool found = false;
-    for (const PlaneSlot& p : planes_) {
-      if (p.transformed) {
-        if (intersect_object(scene_, p.object, ray, best)) {
-          ray.t_max = best.t;
-          found = true;
-        }
-        continue;
-      }
-      double t = 0;
-      if (plane_crossing(p.plane, ray, t)) {
-        set_hit(best, t, p.object, 0, 0, 0, 0);
-        best.vertices = {};
-        ray.t_max = t;
-        found = true;
-      }
-    }
+    bool found = intersect_planes(ray, best);
     if (single_mesh_ != kNone) {
       // One mesh: its own BVH is the whole tree (the top level would hold one box).
       found |= intersect_object(scene_, single_mesh_, ray, best, &mesh_bvhs_);
     } else {
-      found |= traverse_closest_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, Ray& r) {
-        bool hit = false;
-        if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
-          for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-            const uint32_t object =
-                slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
-            if (intersect_object(scene_, object, r, best, &mesh_bvhs_)) {
-              r.t_max = best.t;
-              hit = true;
-            }
-          }
-          return hit;
-        }
-        for (uint32_t i = first; i < first + count; ++i) {
-          const Slot& slot = slots_[i];
-          if (slot.is_sphere) {
-            // intersect_object's sphere case, without its two lookups.
-            if (const auto t = intersect_sphere(slot.sphere, r)) {
-              set_hit(best, *t, slot.object, 0, 0, 0, 0);
-              best.vertices = {};
-              r.t_max = *t;
-              hit = true;
-            }
-          } else if (intersect_object(scene_, slot.object, r, best, &mesh_bvhs_)) {
-            r.t_max = best.t;
-            hit = true;
-          }
-        }
-        return hit;
-      });
+      found |= traverse_closest_leaves(
+          bvh_, ray, [&](uint32_t first, uint32_t count, Ray& r) { return leaf_closest(first, count, r, best); });
     }
     if (!found) result.reset();
     return result;
   }
 
   void intersect_packet(const Ray* rays, int count, std::optional<Hit>* hits) const override {
-    if (single_mesh_ == kNone || count > kPacketSize) return Accelerator::intersect_packet(rays, count, hits);
+    if (count > kPacketSize) return Accelerator::intersect_packet(rays, count, hits);
+    if (single_mesh_ == kNone) return intersect_objects_packet(rays, count, hits);
     // The steps of intersect() ray by ray, with the mesh traced as a packet:
     // planes first (they bound t_max), then the mesh, then the refinement.
     const Object& object = scene_.objects[single_mesh_];
@@ -368,7 +326,8 @@ class BvhAccelerator final : public Accelerator {
   bool occluded(const Ray& ray) const override { return first_blocker(ray).has_value(); }
 
   void occluded_packet(const Ray* rays, int count, bool* blocked, uint32_t& cache) const override {
-    if (single_mesh_ == kNone || count > kPacketSize) return Accelerator::occluded_packet(rays, count, blocked, cache);
+    if (count > kPacketSize) return Accelerator::occluded_packet(rays, count, blocked, cache);
+    if (single_mesh_ == kNone) return occluded_objects_packet(rays, count, blocked, cache);
     // Planes ray by ray; the rays they leave open go through the mesh as one
     // packet: blocked when the packet's closest-hit kernel finds any hit in
     // the ray's interval, which is exactly when occluded_mesh_bvh finds one
@@ -418,28 +377,164 @@ class BvhAccelerator final : public Accelerator {
                  : std::nullopt;
     std::optional<uint32_t> blocker;
     traverse_any_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, const Ray& r) {
-      if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
-        for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-          const uint32_t object =
-              slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
-          if (object != skip && occludes_object(scene_, object, r, &mesh_bvhs_)) {
-            blocker = object;
-            return true;
-          }
-        }
-        return false;
-      }
-      for (uint32_t i = first; i < first + count; ++i) {
-        const Slot& slot = slots_[i];
-        if (slot.object != skip && (slot.is_sphere ? intersect_sphere(slot.sphere, r).has_value()
-                                                   : occludes_object(scene_, slot.object, r, &mesh_bvhs_))) {
-          blocker = slot.object;
-          return true;
-        }
-      }
-      return false;
+      const uint32_t object = leaf_blocker(first, count, r, skip);
+      if (object != kNone) blocker = object;
+      return object != kNone;
     });
     return blocker;
+  }
+
+  // The infinite planes against `ray`: the nearest hit into `best`, ray.t_max lowered to it.
+  bool intersect_planes(Ray& ray, Hit& best) const {
+    bool found = false;
+    for (const PlaneSlot& p : planes_) {
+      if (p.transformed) {
+        if (intersect_object(scene_, p.object, ray, best)) {
+          ray.t_max = best.t;
+          found = true;
+        }
+        continue;
+      }
+      double t = 0;
+      if (plane_crossing(p.plane, ray, t)) {
+        set_hit(best, t, p.object, 0, 0, 0, 0);
+        best.vertices = {};
+        ray.t_max = t;
+        found = true;
+      }
+    }
+    return found;
+  }
+
+  // The objects of a leaf of the tree (slots first .. first + count) against
+  // `r`: a nearer hit into `best`, r.t_max lowered to it.
+  bool leaf_closest(uint32_t first, uint32_t count, Ray& r, Hit& best) const {
+    bool hit = false;
+    if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
+      for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
+        const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
+        if (intersect_object(scene_, object, r, best, &mesh_bvhs_)) {
+          r.t_max = best.t;
+          hit = true;
+        }
+      }
+      return hit;
+    }
+    for (uint32_t i = first; i < first + count; ++i) {
+      const Slot& slot = slots_[i];
+      if (slot.is_sphere) {
+        // intersect_object's sphere case, without its two lookups.
+        if (const auto t = intersect_sphere(slot.sphere, r)) {
+          set_hit(best, *t, slot.object, 0, 0, 0, 0);
+          best.vertices = {};
+          r.t_max = *t;
+          hit = true;
+        }
+      } else if (intersect_object(scene_, slot.object, r, best, &mesh_bvhs_)) {
+        r.t_max = best.t;
+        hit = true;
+      }
+    }
+    return hit;
+  }
+
+  // The first object of a leaf found to block `r`, leaving out `skip`; kNone when none does.
+  uint32_t leaf_blocker(uint32_t first, uint32_t count, const Ray& r, uint32_t skip) const {
+    if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
+      for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
+        const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
+        if (object != skip && occludes_object(scene_, object, r, &mesh_bvhs_)) return object;
+      }
+      return kNone;
+    }
+    for (uint32_t i = first; i < first + count; ++i) {
+      const Slot& slot = slots_[i];
+      if (slot.object != skip && (slot.is_sphere ? intersect_sphere(slot.sphere, r).has_value()
+                                                 : occludes_object(scene_, slot.object, r, &mesh_bvhs_)))
+        return slot.object;
+    }
+    return kNone;
+  }
+
+  // intersect() for each ray, the tree traced as one packet: planes ray by
+  // ray first (they bound t_max), then every leaf a ray's own box test
+  // reaches is tested for that ray as intersect() tests it.
+  void intersect_objects_packet(const Ray* rays, int count, std::optional<Hit>* hits) const {
+    Ray r[kPacketSize];
+    Hit best[kPacketSize];
+    int found = 0;
+    for (int i = 0; i < count; ++i) {
+      r[i] = rays[i];
+      if (intersect_planes(r[i], best[i])) found |= 1 << i;
+    }
+    RayPacket packet = make_ray_packet(r, count);
+    for (int i = 0; i < count; ++i) packet.t_max[i] = clamp_to_float(r[i].t_max);  // as traverse_closest_leaves
+    const bool traced = traverse_packet_closest(bvh_, packet, [&](uint32_t first, uint32_t n, int mask) {
+      int lowered = 0;
+      for (; mask; mask &= mask - 1) {
+        const int i = __builtin_ctz(static_cast<unsigned>(mask));
+        if (leaf_closest(first, n, r[i], best[i])) {
+          packet.t_max[i] = clamp_to_float(r[i].t_max);
+          lowered |= 1 << i;
+        }
+      }
+      found |= lowered;
+      return lowered;
+    });
+    if (!traced) {
+      for (int i = 0; i < count; ++i)
+        if (traverse_closest_leaves(bvh_, r[i], [&](uint32_t first, uint32_t n, Ray& ray) {
+              return leaf_closest(first, n, ray, best[i]);
+            }))
+          found |= 1 << i;
+    }
+    for (int i = 0; i < count; ++i) {
+      if (found >> i & 1) hits[i] = best[i];
+      else hits[i].reset();
+    }
+  }
+
+  // occluded_cached for each ray, the tree traced as one packet: planes ray
+  // by ray, then the cached blocker, then the open rays through the tree
+  // together (any blocker answers; the cached one is left out, known not to).
+  void occluded_objects_packet(const Ray* rays, int count, bool* blocked, uint32_t& cache) const {
+    const uint32_t skip = cache < scene_.objects.size() ? cache : kNone;
+    Ray open[kPacketSize];
+    int index[kPacketSize];
+    int n = 0;
+    for (int i = 0; i < count; ++i) {
+      blocked[i] = std::any_of(planes_.begin(), planes_.end(), [&](const PlaneSlot& p) { return blocks(p, rays[i]); }) ||
+                   (skip != kNone && occludes_object(scene_, skip, rays[i], &mesh_bvhs_));
+      if (blocked[i]) continue;
+      open[n] = rays[i];
+      index[n++] = i;
+    }
+    if (n == 0) return;
+    RayPacket packet = make_ray_packet(open, n);
+    for (int k = 0; k < n; ++k) packet.t_max[k] = clamp_to_float(open[k].t_max);  // as traverse_any_leaves
+    uint32_t blocker = kNone;
+    int result = traverse_packet_any(bvh_, packet, [&](uint32_t first, uint32_t c, int mask) {
+      int now_blocked = 0;
+      for (; mask; mask &= mask - 1) {
+        const int k = __builtin_ctz(static_cast<unsigned>(mask));
+        if (const uint32_t object = leaf_blocker(first, c, open[k], skip); object != kNone) {
+          blocker = object;
+          now_blocked |= 1 << k;
+        }
+      }
+      return now_blocked;
+    });
+    if (result < 0) {
+      result = 0;
+      for (int k = 0; k < n; ++k) {
+        if (const std::optional<uint32_t> b = first_blocker_except(open[k], skip)) {
+          blocker = *b;
+          result |= 1 << k;
+        }
+      }
+    }
+    for (int k = 0; k < n; ++k) blocked[index[k]] = result >> k & 1;
+    if (blocker != kNone) cache = blocker;
   }
 
   size_t memory_bytes() const override {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "glint/accel/packet_traversal.h"
+
 namespace glint {
 
 RayPacket make_ray_packet(const Ray* rays, int count) {
@@ -35,113 +37,8 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
 
 namespace {
 
-// The packet's 16 rays as SIMD lanes: one AVX-512 register where the CPU
-// has them, else two AVX halves. Masks are AVX-512 mask registers or AVX
-// vectors of all-ones lanes; `bits` gives them as an integer, bit i for ray i.
-#if defined(__AVX512F__)
-struct F16 {
-  __m512 v;
-};
-struct I16 {
-  __m512i v;
-};
-using M16 = __mmask16;
-inline F16 load16(const float* p) { return {_mm512_load_ps(p)}; }
-inline void store16(float* p, F16 a) { _mm512_store_ps(p, a.v); }
-inline F16 splat16(float x) { return {_mm512_set1_ps(x)}; }
-inline F16 operator+(F16 a, F16 b) { return {_mm512_add_ps(a.v, b.v)}; }
-inline F16 operator-(F16 a, F16 b) { return {_mm512_sub_ps(a.v, b.v)}; }
-inline F16 operator*(F16 a, F16 b) { return {_mm512_mul_ps(a.v, b.v)}; }
-inline F16 operator/(F16 a, F16 b) { return {_mm512_div_ps(a.v, b.v)}; }
-inline F16 min16(F16 a, F16 b) { return {_mm512_min_ps(a.v, b.v)}; }
-inline F16 max16(F16 a, F16 b) { return {_mm512_max_ps(a.v, b.v)}; }
-template <int kCmp>
-inline M16 compare16(F16 a, F16 b) {
-  return _mm512_cmp_ps_mask(a.v, b.v, kCmp);
-}
-inline M16 and16(M16 a, M16 b) { return a & b; }
-inline M16 or16(M16 a, M16 b) { return a | b; }
-inline M16 andnot16(M16 a, M16 b) { return static_cast<M16>(~a & b); }  // b and not a
-inline int bits16(M16 m) { return m; }
-inline M16 mask16(int bits) { return static_cast<M16>(bits); }
-inline F16 select16(M16 m, F16 yes, F16 no) { return {_mm512_mask_blend_ps(m, no.v, yes.v)}; }
-inline I16 splat16i(uint32_t x) { return {_mm512_set1_epi32(static_cast<int>(x))}; }
-inline I16 select16(M16 m, I16 yes, I16 no) { return {_mm512_mask_blend_epi32(m, no.v, yes.v)}; }
-inline M16 greater16(I16 a, I16 b) { return _mm512_cmpgt_epi32_mask(a.v, b.v); }
-inline I16 load16(const uint32_t* p) { return {_mm512_load_si512(p)}; }
-inline void store16(uint32_t* p, I16 a) { _mm512_store_si512(p, a.v); }
-inline float max_lane(F16 a) { return _mm512_reduce_max_ps(a.v); }
-inline float min_lane(F16 a) { return _mm512_reduce_min_ps(a.v); }
-#else
-struct F16 {
-  __m256 lo, hi;
-};
-struct I16 {
-  __m256i lo, hi;
-};
-using M16 = F16;
-inline F16 load16(const float* p) { return {_mm256_load_ps(p), _mm256_load_ps(p + 8)}; }
-inline void store16(float* p, F16 a) {
-  _mm256_store_ps(p, a.lo);
-  _mm256_store_ps(p + 8, a.hi);
-}
-inline F16 splat16(float x) { return {_mm256_set1_ps(x), _mm256_set1_ps(x)}; }
-inline F16 operator+(F16 a, F16 b) { return {_mm256_add_ps(a.lo, b.lo), _mm256_add_ps(a.hi, b.hi)}; }
-inline F16 operator-(F16 a, F16 b) { return {_mm256_sub_ps(a.lo, b.lo), _mm256_sub_ps(a.hi, b.hi)}; }
-inline F16 operator*(F16 a, F16 b) { return {_mm256_mul_ps(a.lo, b.lo), _mm256_mul_ps(a.hi, b.hi)}; }
-inline F16 operator/(F16 a, F16 b) { return {_mm256_div_ps(a.lo, b.lo), _mm256_div_ps(a.hi, b.hi)}; }
-inline F16 min16(F16 a, F16 b) { return {_mm256_min_ps(a.lo, b.lo), _mm256_min_ps(a.hi, b.hi)}; }
-inline F16 max16(F16 a, F16 b) { return {_mm256_max_ps(a.lo, b.lo), _mm256_max_ps(a.hi, b.hi)}; }
-template <int kCmp>
-inline M16 compare16(F16 a, F16 b) {
-  return {_mm256_cmp_ps(a.lo, b.lo, kCmp), _mm256_cmp_ps(a.hi, b.hi, kCmp)};
-}
-inline M16 and16(M16 a, M16 b) { return {_mm256_and_ps(a.lo, b.lo), _mm256_and_ps(a.hi, b.hi)}; }
-inline M16 or16(M16 a, M16 b) { return {_mm256_or_ps(a.lo, b.lo), _mm256_or_ps(a.hi, b.hi)}; }
-inline M16 andnot16(M16 a, M16 b) { return {_mm256_andnot_ps(a.lo, b.lo), _mm256_andnot_ps(a.hi, b.hi)}; }
-inline int bits16(M16 m) { return _mm256_movemask_ps(m.lo) | _mm256_movemask_ps(m.hi) << 8; }
-inline M16 mask16(int bits) {
-  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  auto half = [&](int b) {
-    const __m256i set = _mm256_and_si256(_mm256_set1_epi32(b), lane_bit);
-    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane_bit));
-  };
-  return {half(bits & 0xff), half(bits >> 8 & 0xff)};
-}
-inline F16 select16(M16 m, F16 yes, F16 no) {
-  return {_mm256_blendv_ps(no.lo, yes.lo, m.lo), _mm256_blendv_ps(no.hi, yes.hi, m.hi)};
-}
-inline I16 splat16i(uint32_t x) {
-  return {_mm256_set1_epi32(static_cast<int>(x)), _mm256_set1_epi32(static_cast<int>(x))};
-}
-inline I16 select16(M16 m, I16 yes, I16 no) {
-  auto half = [](__m256 mask, __m256i y, __m256i n) {
-    return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(n), _mm256_castsi256_ps(y), mask));
-  };
-  return {half(m.lo, yes.lo, no.lo), half(m.hi, yes.hi, no.hi)};
-}
-inline M16 greater16(I16 a, I16 b) {
-  return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(a.lo, b.lo)), _mm256_castsi256_ps(_mm256_cmpgt_epi32(a.hi, b.hi))};
-}
-inline I16 load16(const uint32_t* p) {
-  return {_mm256_load_si256(reinterpret_cast<const __m256i*>(p)),
-          _mm256_load_si256(reinterpret_cast<const __m256i*>(p + 8))};
-}
-inline void store16(uint32_t* p, I16 a) {
-  _mm256_store_si256(reinterpret_cast<__m256i*>(p), a.lo);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(p + 8), a.hi);
-}
-inline float max_lane(F16 a) {
-  alignas(32) float v[8];
-  _mm256_store_ps(v, _mm256_max_ps(a.lo, a.hi));
-  return *std::max_element(v, v + 8);
-}
-inline float min_lane(F16 a) {
-  alignas(32) float v[8];
-  _mm256_store_ps(v, _mm256_min_ps(a.lo, a.hi));
-  return *std::min_element(v, v + 8);
-}
-#endif
+using namespace simd16;
+
 static_assert(kPacketSize == 16, "the packet kernel's lanes are 16 rays");
 
 // A leaf reached by this many rays of a packet is tested triangle by
@@ -165,12 +62,9 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   // One shear frame and one set of direction signs for the whole packet.
   const int kz = dominant_axis(p.direction[0][0], p.direction[1][0], p.direction[2][0]);
   bool negative[3];
-  for (int a = 0; a < 3; ++a) negative[a] = std::signbit(p.inv_direction[a][0]);
-  for (int i = 1; i < kPacketSize; ++i) {
+  if (!packet_direction_signs(p, negative)) return false;
+  for (int i = 1; i < kPacketSize; ++i)
     if (dominant_axis(p.direction[0][i], p.direction[1][i], p.direction[2][i]) != kz) return false;
-    for (int a = 0; a < 3; ++a)
-      if (std::signbit(p.inv_direction[a][i]) != negative[a]) return false;
-  }
   const int kx = kz == 2 ? 0 : kz + 1;
   const int ky = kx == 2 ? 0 : kx + 1;
 
@@ -181,65 +75,19 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
     sx[i] = -p.direction[kx][i] * sz[i];
     sy[i] = -p.direction[ky][i] * sz[i];
   }
-  F16 origin[3];
-  for (int a = 0; a < 3; ++a) origin[a] = load16(p.origin[a]);
+  // Nodes are tested once for the whole packet, like a single ray
+  // (packet_children); a child is entered when any ray may hit it; leaves
+  // are then tested against every ray whose own box test passes, so a ray's
+  // hits are exactly its own.
+  const PacketBoxes boxes = make_packet_boxes(p, negative);
+  const F16* origin = boxes.origin;
   const F16 shear_x = load16(sx), shear_y = load16(sy), shear_z = load16(sz);
-  // Boxes are entered from t_min scaled down a little (wide_bvh.h), triangles from t_min.
-  const F16 t_min = load16(p.t_min);
-  const F16 box_t_min = t_min * splat16(1.0f - 0x1p-20f) - splat16(1e-30f);
+  const F16 t_min = load16(p.t_min);  // triangles are tested from t_min itself
   F16 t_max = load16(p.t_max);
   I16 hit_triangle = splat16i(kNoHitId);
   I16 hit_slot = splat16i(0);  // block * 4 + lane of the hit
-
-  // Nodes are tested once for the whole packet, like a single ray, with
-  // interval arithmetic: per axis, the packet's origins and inverse
-  // directions as [lo, hi] ranges give a t range that holds every ray's own
-  // slab distances (float rounding is monotonic, so it holds for the rounded
-  // values too). A child is entered when any ray may hit it; leaves are then
-  // tested against every ray, so a ray's hits are exactly its own.
-  float o_lo[3], o_hi[3], inv_lo[3], inv_hi[3];
-  for (int a = 0; a < 3; ++a) {
-    o_lo[a] = min_lane(origin[a]);
-    o_hi[a] = max_lane(origin[a]);
-    const F16 inv = load16(p.inv_direction[a]);
-    inv_lo[a] = min_lane(inv);
-    inv_hi[a] = max_lane(inv);
-  }
-  // t = (plane - o) * inv. With inv > 0 it falls as o grows: the near bound
-  // takes the largest origin, the far bound the smallest; with inv < 0 the
-  // other way round. The sign of (plane - o) picks the inverse: both products
-  // are taken and the lower (near) or higher (far) kept.
-  __m256 near_origin[3], far_origin[3], inv_a[3], inv_b[3], near_row_mask[3];
-  for (int a = 0; a < 3; ++a) {
-    near_origin[a] = _mm256_set1_ps(negative[a] ? o_lo[a] : o_hi[a]);
-    far_origin[a] = _mm256_set1_ps(negative[a] ? o_hi[a] : o_lo[a]);
-    inv_a[a] = _mm256_set1_ps(inv_lo[a]);
-    inv_b[a] = _mm256_set1_ps(inv_hi[a]);
-    near_row_mask[a] = _mm256_castsi256_ps(_mm256_set1_epi32(negative[a] ? -1 : 0));
-  }
-  const __m256 node_t_min = _mm256_set1_ps(min_lane(box_t_min));
   // The farthest any ray still looks (its hit, or its t_max): boxes behind it are skipped.
   float node_t_max = max_lane(t_max);
-  const __m256 widen = _mm256_set1_ps(1.0f + 4.0f * 0x1p-23f);
-  const __m256 minus_inf = _mm256_set1_ps(-INFINITY), plus_inf = _mm256_set1_ps(INFINITY);
-  const int active = p.count >= kPacketSize ? (1 << kPacketSize) - 1 : (1 << p.count) - 1;
-
-  // Per-ray box test of a leaf child (the packet test only says some ray may
-  // hit it): the rays that do, as a bit mask.
-  F16 inv_dir[3];
-  for (int a = 0; a < 3; ++a) inv_dir[a] = load16(p.inv_direction[a]);
-  const F16 widen16 = splat16(1.0f + 4.0f * 0x1p-23f);
-  auto rays_hitting = [&](const BvhNode& n, int c) {
-    F16 lo_t = box_t_min, hi_t = t_max;
-    for (int a = 0; a < 3; ++a) {
-      const F16 near_plane = splat16(n.bounds[2 * a + (negative[a] ? 1 : 0)][c]);
-      const F16 far_plane = splat16(n.bounds[2 * a + (negative[a] ? 0 : 1)][c]);
-      lo_t = max16((near_plane - origin[a]) * inv_dir[a], lo_t);
-      hi_t = min16((far_plane - origin[a]) * inv_dir[a], hi_t);
-    }
-    hi_t = hi_t * widen16;  // as hit_children does
-    return bits16(compare16<_CMP_LE_OQ>(lo_t, hi_t)) & active;
-  };
 
   // A block against the rays in `mask`, each triangle against all of them at
   // once (worth it when many rays reach the block).
@@ -338,30 +186,14 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
       if (hit) node_t_max = max_lane(t_max);
     } else {
       const BvhNode& n = m.bvh.nodes[e.child];
-      __m256 lo_t = node_t_min, hi_t = _mm256_set1_ps(node_t_max);
-      for (int a = 0; a < 3; ++a) {
-        const __m256 lo = _mm256_load_ps(n.bounds[2 * a]), hi = _mm256_load_ps(n.bounds[2 * a + 1]);
-        const __m256 near_plane = _mm256_blendv_ps(lo, hi, near_row_mask[a]);
-        const __m256 far_plane = _mm256_blendv_ps(hi, lo, near_row_mask[a]);
-        const __m256 dn = _mm256_sub_ps(near_plane, near_origin[a]), df = _mm256_sub_ps(far_plane, far_origin[a]);
-        const __m256 na = _mm256_mul_ps(dn, inv_a[a]), nb = _mm256_mul_ps(dn, inv_b[a]);
-        const __m256 fa = _mm256_mul_ps(df, inv_a[a]), fb = _mm256_mul_ps(df, inv_b[a]);
-        // 0 * inf (a ray parallel to the slab, starting on it) bounds nothing.
-        const __m256 t0 = _mm256_blendv_ps(_mm256_min_ps(na, nb), minus_inf, _mm256_cmp_ps(na, nb, _CMP_UNORD_Q));
-        const __m256 t1 = _mm256_blendv_ps(_mm256_max_ps(fa, fb), plus_inf, _mm256_cmp_ps(fa, fb, _CMP_UNORD_Q));
-        lo_t = _mm256_max_ps(t0, lo_t);
-        hi_t = _mm256_min_ps(t1, hi_t);
-      }
-      hi_t = _mm256_mul_ps(hi_t, widen);  // as hit_children does
-      int mask = _mm256_movemask_ps(_mm256_cmp_ps(lo_t, hi_t, _CMP_LE_OQ));
+      alignas(32) float t[kBvhWidth];
+      int mask = packet_children(boxes, n, node_t_max, t);
       if (mask) {
-        alignas(32) float t[kBvhWidth];
-        _mm256_store_ps(t, lo_t);
         const int first = top;
         while (mask) {
           const int i = __builtin_ctz(mask);
           mask &= mask - 1;
-          const Entry h{n.child[i], n.count[i], t[i], n.count[i] ? rays_hitting(n, i) : 0};
+          const Entry h{n.child[i], n.count[i], t[i], n.count[i] ? packet_rays_hitting(boxes, n, i, t_max) : 0};
           if (h.count && !h.mask) continue;
           if (h.count) {  // leaf blocks: on their way while the others are ordered
             const char* block = reinterpret_cast<const char*>(&m.blocks[h.child]);
