@@ -495,16 +495,16 @@ class BvhAccelerator final : public Accelerator {
   }
 
   // occluded_cached for each ray, the tree traced as one packet: planes ray
-  // by ray, then the cached blocker, then the open rays through the tree
-  // together (any blocker answers; the cached one is left out, known not to).
+  // by ray, then the open rays through the tree together. The cached blocker
+  // is not asked first: the packet meets a blocker about as soon (spheres
+  // render 0.160 -> 0.155 s without it); it is still set, for rays asked one
+  // by one.
   void occluded_objects_packet(const Ray* rays, int count, bool* blocked, uint32_t& cache) const {
-    const uint32_t skip = cache < scene_.objects.size() ? cache : kNone;
     Ray open[kPacketSize];
     int index[kPacketSize];
     int n = 0;
     for (int i = 0; i < count; ++i) {
-      blocked[i] = std::any_of(planes_.begin(), planes_.end(), [&](const PlaneSlot& p) { return blocks(p, rays[i]); }) ||
-                   (skip != kNone && occludes_object(scene_, skip, rays[i], &mesh_bvhs_));
+      blocked[i] = std::any_of(planes_.begin(), planes_.end(), [&](const PlaneSlot& p) { return blocks(p, rays[i]); });
       if (blocked[i]) continue;
       open[n] = rays[i];
       index[n++] = i;
@@ -513,25 +513,20 @@ class BvhAccelerator final : public Accelerator {
     RayPacket packet = make_ray_packet(open, n);
     for (int k = 0; k < n; ++k) packet.t_max[k] = clamp_to_float(open[k].t_max);  // as traverse_any_leaves
     uint32_t blocker = kNone;
-    int result = traverse_packet_any(bvh_, packet, [&](uint32_t first, uint32_t c, int mask) {
+    const int result = traverse_packet_any(bvh_, packet, [&](uint32_t first, uint32_t c, int mask) {
       int now_blocked = 0;
       for (; mask; mask &= mask - 1) {
         const int k = __builtin_ctz(static_cast<unsigned>(mask));
-        if (const uint32_t object = leaf_blocker(first, c, open[k], skip); object != kNone) {
+        if (const uint32_t object = leaf_blocker(first, c, open[k], kNone); object != kNone) {
           blocker = object;
           now_blocked |= 1 << k;
         }
       }
       return now_blocked;
     });
-    if (result < 0) {
-      result = 0;
-      for (int k = 0; k < n; ++k) {
-        if (const std::optional<uint32_t> b = first_blocker_except(open[k], skip)) {
-          blocker = *b;
-          result |= 1 << k;
-        }
-      }
+    if (result < 0) {  // not coherent: ray by ray
+      for (int k = 0; k < n; ++k) blocked[index[k]] = occluded_cached(open[k], cache);
+      return;
     }
     for (int k = 0; k < n; ++k) blocked[index[k]] = result >> k & 1;
     if (blocker != kNone) cache = blocker;
