@@ -250,9 +250,10 @@ void check_before_load(const RenderArgs& args) {
   output_files(args);
 }
 
-// The scene, its warnings printed, and the digest of its inputs for resume
-// keys: the scene file's bytes and everything the scene loaded from others.
-Scene load_for_render(const RenderArgs& args, uint64_t& inputs_digest) {
+// The scene, its warnings printed, and the scene file's bytes: with
+// everything the scene loaded from other files, they make the digest of its
+// inputs for resume keys (taken only when a resume file is read or written).
+Scene load_for_render(const RenderArgs& args, std::vector<unsigned char>& description) {
   Scene scene = load_scene(args.scene_path);
   if (!args.quiet) {
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -263,7 +264,7 @@ Scene load_for_render(const RenderArgs& args, uint64_t& inputs_digest) {
                    "(.png .jpg .ppm) only and are ignored\n",
                    args.output_path.c_str());
   }
-  inputs_digest = scene_inputs_digest(read_file(args.scene_path), scene);
+  description = read_file(args.scene_path);
   return scene;
 }
 
@@ -274,8 +275,8 @@ int run_render_local(const RenderArgs& args) {
   // its first tile (and still leaves a resume file), rather than killing glint.
   install_interrupt_handlers();
   check_before_load(args);
-  uint64_t digest = 0;
-  Scene scene = load_for_render(args, digest);
+  std::vector<unsigned char> description;
+  Scene scene = load_for_render(args, description);
   const std::vector<FrameOutput> plan = plan_frames(scene, args.output_path, args.frames);
   apply_overrides(args, scene.render);
   if (args.stats_json && plan.size() > 1)
@@ -309,6 +310,7 @@ int run_render_local(const RenderArgs& args) {
     if (args.stats_json) write_stats_json(*args.stats_json, args, out.path, scene.render, report.stats, t);
     if (!args.quiet) print_frame_stats(args, out.path, scene.render, report, t);
   };
+  const auto digest = [&] { return scene_inputs_digest(description, scene); };
   if (!render_frames(scene, digest, plan, args.skip_existing, job, events)) throw Interrupted{interrupted};
   return 0;
 }

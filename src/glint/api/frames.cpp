@@ -104,7 +104,8 @@ bool render_frames(const Scene& scene, const FramesOptions& options,
     report.stats = public_stats(r);
     on_frame(report);
   };
-  return glint::render_frames(internal, inputs_digest(scene), plan, options.skip_existing, job, events);
+  return glint::render_frames(
+      internal, [&] { return inputs_digest(scene); }, plan, options.skip_existing, job, events);
 }
 
 uint64_t resume_key(const Scene& scene, int frame) {

@@ -73,7 +73,7 @@ void render_frames_on_ranks(const Prepared& p, const std::vector<FrameOutput>& f
           events.frame_finished(out, p.scene.render, report,
                                 std::chrono::duration<double>(Clock::now() - start).count());
         };
-        if (!render_frames(p.scene, p.inputs_digest, {frames[item]}, false, job, frame_events))
+        if (!render_frames(p.scene, [&] { return p.inputs_digest; }, {frames[item]}, false, job, frame_events))
           throw Error(frames[item].path + ": stopped, as the job failed; it keeps a resume file");
       },
       options.rank_timeout, [&](int item) { return std::to_string(frames[item].frame); }, options.faults);

@@ -1,6 +1,7 @@
 #include "glint/render/frame_job.h"
 
 #include <chrono>
+#include <optional>
 #include <system_error>
 #include <utility>
 
@@ -38,12 +39,12 @@ struct FrameStart {
   bool resumed = false;
 };
 
-FrameStart start_frame(const RenderSettings& r, uint64_t key, const FrameJob& job,
+FrameStart start_frame(const RenderSettings& r, const std::function<uint64_t()>& key, const FrameJob& job,
                        const std::filesystem::path& resume_path) {
   FrameStart start;
   if (job.resume) {
     if (auto state = read_resume_file(resume_path)) {
-      if (state->key != key || state->image.width != r.width || state->image.height != r.height)
+      if (state->key != key() || state->image.width != r.width || state->image.height != r.height)
         throw Error(resume_path.string() +
                     ": made for a different scene, different scene files (meshes, "
                     "textures) or different settings; delete it to render from the start");
@@ -136,7 +137,7 @@ void write_outputs(const Image& image, const PassImages& passes, const OutputFil
   write_image(image, output.path, output.light);
 }
 
-FrameReport render_frame_to_files(const Scene& scene, uint64_t key, const FrameJob& job) {
+FrameReport render_frame_to_files(const Scene& scene, const std::function<uint64_t()>& key, const FrameJob& job) {
   check_output_path(job.output.path);
   job.output.check();
   const RenderSettings& r = scene.render;
@@ -153,7 +154,7 @@ FrameReport render_frame_to_files(const Scene& scene, uint64_t key, const FrameJ
   report.tiles_done = f.tiles.count_done();
   report.tiles_total = f.tiles.done.size();
   if (!report.complete) {
-    write_partial(f, r.background, key, job.output, resume_path);
+    write_partial(f, r.background, key(), job.output, resume_path);
     return report;
   }
   const auto write_start = Clock::now();
@@ -164,9 +165,15 @@ FrameReport render_frame_to_files(const Scene& scene, uint64_t key, const FrameJ
   return report;
 }
 
-bool render_frames(const Scene& scene, uint64_t inputs_digest, const std::vector<FrameOutput>& plan, bool skip_existing,
-                   const FrameJob& job, const FrameEvents& events) {
+bool render_frames(const Scene& scene, const std::function<uint64_t()>& inputs_digest,
+                   const std::vector<FrameOutput>& plan, bool skip_existing, const FrameJob& job,
+                   const FrameEvents& events) {
   const bool animated = scene.animation.frames > 0;
+  std::optional<uint64_t> digest;
+  auto inputs = [&] {
+    if (!digest) digest = inputs_digest();
+    return *digest;
+  };
   for (const FrameOutput& out : plan) {
     if (skip_existing && frame_done(out.path)) {
       if (events.skipped) events.skipped(out);
@@ -178,9 +185,11 @@ bool render_frames(const Scene& scene, uint64_t inputs_digest, const std::vector
     FrameReport report;
     if (animated) {
       const Scene posed = scene_at_frame(scene, out.frame);
-      report = render_frame_to_files(posed, resume_key(inputs_digest, posed.render, out.frame), frame_job);
+      report = render_frame_to_files(
+          posed, [&] { return resume_key(inputs(), posed.render, out.frame); }, frame_job);
     } else {
-      report = render_frame_to_files(scene, resume_key(inputs_digest, scene.render, out.frame), frame_job);
+      report = render_frame_to_files(
+          scene, [&] { return resume_key(inputs(), scene.render, out.frame); }, frame_job);
     }
     if (events.finished) events.finished(out, report);
     if (!report.complete) return false;

@@ -78,12 +78,14 @@ struct FrameReport {
   double build_seconds = 0, write_seconds = 0;
 };
 
-// Renders `scene` (one frame's, settings final) into job.output. `key` is
-// resume_key(...) of the scene and frame: the resume file is read against it
-// and written with it. Throws glint::Error for a resume file made for other
+// Renders `scene` (one frame's, settings final) into job.output. `key()`
+// gives resume_key(...) of the scene and frame: the resume file is read
+// against it and written with it. It is asked only then (a digest of a mesh
+// of a million triangles costs about 8 ms, which a render that neither
+// resumes nor stops does not need). Throws glint::Error for a resume file made for other
 // inputs, settings or passes ("delete it"), and for I/O problems. A complete
 // render removes the resume file.
-FrameReport render_frame_to_files(const Scene& scene, uint64_t key, const FrameJob& job);
+FrameReport render_frame_to_files(const Scene& scene, const std::function<uint64_t()>& key, const FrameJob& job);
 
 // What render_frames tells its caller as it goes.
 struct FrameEvents {
@@ -96,8 +98,9 @@ struct FrameEvents {
 // (job.output.path replaced by the frame's), an animated scene posed at each
 // frame; with `skip_existing`, frames already done are skipped. Stops after a
 // frame that did not complete (cancelled) and returns false; true when every
-// frame is done. `inputs_digest` is scene_inputs_digest(...) of `scene`.
-bool render_frames(const Scene& scene, uint64_t inputs_digest, const std::vector<FrameOutput>& plan, bool skip_existing,
+// frame is done. `inputs_digest()` gives scene_inputs_digest(...) of
+// `scene`; asked at most once, when a frame's resume key is needed.
+bool render_frames(const Scene& scene, const std::function<uint64_t()>& inputs_digest, const std::vector<FrameOutput>& plan, bool skip_existing,
                    const FrameJob& job, const FrameEvents& events = {});
 
 }  // namespace glint
