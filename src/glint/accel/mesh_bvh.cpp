@@ -14,24 +14,25 @@ MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options) {
   MeshBvh out;
   // Float boxes straight from the float vertices (min and max in the order
   // Bounds3::extend takes them, so -0 and +0 land as they did in double).
-  const auto triangle_box = [&mesh](size_t t) {
-    const uint32_t* i = &mesh.indices[3 * t];
-    FloatBox b;
-    const Vec3f& p0 = mesh.positions[i[0]];
-    b.lo[0] = b.hi[0] = p0.x;
-    b.lo[1] = b.hi[1] = p0.y;
-    b.lo[2] = b.hi[2] = p0.z;
-    for (int k = 1; k < 3; ++k) {
-      const Vec3f& p = mesh.positions[i[k]];
-      const float v[3] = {p.x, p.y, p.z};
-      for (int a = 0; a < 3; ++a) {
-        b.lo[a] = std::min(b.lo[a], v[a]);
-        b.hi[a] = std::max(b.hi[a], v[a]);
+  const auto triangle_boxes = [&mesh](size_t begin, size_t end, FloatBox* boxes) {
+    for (size_t t = begin; t < end; ++t) {
+      const uint32_t* i = &mesh.indices[3 * t];
+      FloatBox& b = boxes[t - begin];
+      const Vec3f& p0 = mesh.positions[i[0]];
+      b.lo[0] = b.hi[0] = p0.x;
+      b.lo[1] = b.hi[1] = p0.y;
+      b.lo[2] = b.hi[2] = p0.z;
+      for (int k = 1; k < 3; ++k) {
+        const Vec3f& p = mesh.positions[i[k]];
+        const float v[3] = {p.x, p.y, p.z};
+        for (int a = 0; a < 3; ++a) {
+          b.lo[a] = std::min(b.lo[a], v[a]);
+          b.hi[a] = std::max(b.hi[a], v[a]);
+        }
       }
     }
-    return b;
   };
-  out.bvh = build_bvh_over_float_boxes(mesh.triangle_count(), triangle_box, block_options, mesh.bounds.center());
+  out.bvh = build_bvh_over_float_boxes(mesh.triangle_count(), triangle_boxes, block_options, mesh.bounds.center());
   // Leaves hold ranges of bvh.primitives: turn each into blocks of four.
   // First where each leaf's blocks go (so the buffer is allocated once, at
   // its size), then the blocks themselves, nodes split over the threads.

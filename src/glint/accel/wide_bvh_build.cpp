@@ -500,7 +500,7 @@ Bvh build_bvh(std::span<const Bounds3> bounds, const BvhBuildOptions& options, c
   return build_from_refs(std::move(refs), scene, options, origin_hint);
 }
 
-Bvh build_bvh_over_float_boxes(size_t count, const std::function<FloatBox(size_t)>& box_of,
+Bvh build_bvh_over_float_boxes(size_t count, const std::function<void(size_t, size_t, FloatBox*)>& boxes_of,
                                const BvhBuildOptions& options, const Vec3& origin_hint) {
   // Each thread fills its own range of refs (primitives with a non-finite or
   // empty box left out) and its part of the scene's box, in float: the same
@@ -514,15 +514,20 @@ Bvh build_bvh_over_float_boxes(size_t count, const std::function<FloatBox(size_t
     const size_t begin = count * part / threads, end = count * (part + 1) / threads;
     size_t out = begin;
     Box4f scene;
-    for (size_t i = begin; i < end; ++i) {
-      const FloatBox b = box_of(i);
-      bool finite = true;
-      for (int a = 0; a < 3; ++a)
-        finite = finite && std::isfinite(b.lo[a]) && std::isfinite(b.hi[a]) && b.lo[a] <= b.hi[a];
-      if (!finite) continue;
-      refs[out] = PrimRef{{b.lo[0], b.lo[1], b.lo[2]}, static_cast<uint32_t>(i), {b.hi[0], b.hi[1], b.hi[2]}, 0.0f};
-      scene.extend(refs[out].lo4(), refs[out].hi4());
-      ++out;
+    FloatBox boxes[kFloatBoxRange];
+    for (size_t range = begin; range < end; range += kFloatBoxRange) {
+      const size_t range_end = std::min(end, range + kFloatBoxRange);
+      boxes_of(range, range_end, boxes);
+      for (size_t i = range; i < range_end; ++i) {
+        const FloatBox& b = boxes[i - range];
+        bool finite = true;
+        for (int a = 0; a < 3; ++a)
+          finite = finite && std::isfinite(b.lo[a]) && std::isfinite(b.hi[a]) && b.lo[a] <= b.hi[a];
+        if (!finite) continue;
+        refs[out] = PrimRef{{b.lo[0], b.lo[1], b.lo[2]}, static_cast<uint32_t>(i), {b.hi[0], b.hi[1], b.hi[2]}, 0.0f};
+        scene.extend(refs[out].lo4(), refs[out].hi4());
+        ++out;
+      }
     }
     kept[part] = out - begin;
     scene_part[part] = scene;
