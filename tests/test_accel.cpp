@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <map>
 
 #include "glint/accel/accelerator.h"
+#include "glint/accel/huge_pages.h"
 #include "glint/accel/mesh_bvh.h"
 #include "glint/geometry/polygon.h"
 #include "glint/geometry/shapes.h"
@@ -747,6 +749,49 @@ TEST(Backends, EmbreeIsRefusedClearlyWhenMissing) {
   if (embree_available()) GTEST_SKIP() << "glint was built with Embree";
   Scene scene;
   EXPECT_THROW(build_accelerator(scene, AcceleratorOptions{1, AccelBackend::embree}), Error);
+}
+
+}  // namespace
+}  // namespace glint
+
+namespace glint {
+namespace {
+
+// The one big buffer kept between phases (huge_pages.h): the larger of two
+// freed stays, a request takes it only when it is big enough, and
+// release_recycled_buffer (which build_accelerator calls) frees it.
+TEST(RecycledBuffer, KeepsTheLargerAndGivesItToARequestItFits) {
+  release_recycled_buffer();
+  constexpr size_t MiB = size_t{1} << 20;
+  void* big = std::aligned_alloc(kHugePageBytes, 8 * MiB);
+  void* small = std::aligned_alloc(kHugePageBytes, 4 * MiB);
+  ASSERT_TRUE(big && small);
+  EXPECT_EQ(take_recycled_buffer(2 * MiB), nullptr);
+  EXPECT_TRUE(keep_recycled_buffer(small, 4 * MiB));
+  EXPECT_TRUE(keep_recycled_buffer(big, 8 * MiB));  // frees `small`
+  EXPECT_EQ(take_recycled_buffer(10 * MiB), nullptr);
+  EXPECT_EQ(take_recycled_buffer(6 * MiB), big);  // the 2 MiB beyond are given back
+  EXPECT_EQ(take_recycled_buffer(2 * MiB), nullptr);
+  static_cast<char*>(big)[6 * MiB - 1] = 1;  // still ours
+  EXPECT_TRUE(keep_recycled_buffer(big, 6 * MiB));
+  void* other = std::aligned_alloc(kHugePageBytes, 4 * MiB);
+  ASSERT_TRUE(other);
+  EXPECT_FALSE(keep_recycled_buffer(other, 4 * MiB));  // smaller than the kept one: the caller frees it
+  std::free(other);
+  release_recycled_buffer();
+  EXPECT_EQ(take_recycled_buffer(2 * MiB), nullptr);
+
+  // Through HugePageVector: a freed vector's buffer serves the next.
+  const char* first = nullptr;
+  {
+    HugePageVector<char> a(12 * MiB);
+    a[12 * MiB - 1] = 7;
+    first = a.data();
+  }
+  HugePageVector<char> b(10 * MiB);
+  EXPECT_EQ(b.data(), first);
+  b[10 * MiB - 1] = 3;
+  release_recycled_buffer();
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "glint/accel/huge_pages.h"
 #include "glint/accel/mesh_bvh.h"
 #include "glint/accel/packet_traversal.h"
 #include "glint/accel/ray_packets.h"
@@ -576,8 +577,11 @@ class BvhAccelerator final : public Accelerator {
 }  // namespace
 
 std::unique_ptr<Accelerator> build_accelerator(const Scene& scene, const AcceleratorOptions& options) {
-  if (options.backend == AccelBackend::embree) return build_embree_accelerator(scene, options);
-  return std::make_unique<BvhAccelerator>(scene, options);
+  std::unique_ptr<Accelerator> accel = options.backend == AccelBackend::embree
+                                           ? build_embree_accelerator(scene, options)
+                                           : std::make_unique<BvhAccelerator>(scene, options);
+  release_recycled_buffer();  // the build's last big buffer, or the mesh file's (huge_pages.h)
+  return accel;
 }
 
 }  // namespace glint
