@@ -151,21 +151,35 @@ PixelContext make_pixel_context(const Integrator& integrator, const Scene& scene
   return pc;
 }
 
-// The first pass over pixels [x0, x1) of row y. One center ray per pixel:
-// the first hits of up to kPacketSize (16) neighbouring pixels are traced as
-// a packet (the same hits as ray by ray), then each pixel is shaded as usual.
-void render_first_pass_row(const PixelContext& pc, const Accelerator& accel, int y, int x0, int x1, TraceContext& ctx,
-                           Image& image, PassImages* passes) {
+// Rows of a camera packet: its 16 rays are 4 x 4 pixels (a square's rays
+// diverge less than a row's, so the packet meets fewer nodes).
+inline constexpr int kPacketRows = 4;
+
+// The first pass over pixels [x0, x1) of rows [y0, y1) (at most kPacketRows
+// of them). One center ray per pixel: the first hits of blocks of up to 4 x 4
+// neighbouring pixels are traced as a packet (the same hits as ray by ray),
+// then each pixel is shaded as usual.
+void render_first_pass_rows(const PixelContext& pc, const Accelerator& accel, int y0, int y1, int x0, int x1,
+                            TraceContext& ctx, Image& image, PassImages* passes) {
   const int spp = pc.scene.render.samples_per_pixel;
   if (spp != 1) {
-    for (int x = x0; x < x1; ++x) render_pixel_into(pc, x, y, spp, ctx, image, passes);
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) render_pixel_into(pc, x, y, spp, ctx, image, passes);
     return;
   }
-  for (int x = x0; x < x1; x += kPacketSize) {
-    const int n = std::min(kPacketSize, x1 - x);
+  constexpr int kColumns = kPacketSize / kPacketRows;
+  for (int bx = x0; bx < x1; bx += kColumns) {
+    const int columns = std::min(kColumns, x1 - bx);
+    int n = 0;
     Ray rays[kPacketSize];
+    int px[kPacketSize], py[kPacketSize];
+    for (int y = y0; y < y1; ++y)
+      for (int x = bx; x < bx + columns; ++x) {
+        rays[n] = center_ray(pc, x, y);
+        px[n] = x;
+        py[n++] = y;
+      }
     std::optional<Hit> hits[kPacketSize];
-    for (int i = 0; i < n; ++i) rays[i] = center_ray(pc, x + i, y);
     accel.intersect_packet(rays, n, hits);
     if ((!passes || passes->empty()) && pc.integrator.shades_packets()) {
       // Shaded together (their shadow rays as packets); each pixel stored
@@ -176,11 +190,11 @@ void render_first_pass_row(const PixelContext& pc, const Accelerator& accel, int
         ctx.stats.camera++;
         PixelSums sums;
         sums.color += 1.0 * colors[i];
-        store(image, x + i, y, sums.color / 1.0);
+        store(image, px[i], py[i], sums.color / 1.0);
       }
       continue;
     }
-    for (int i = 0; i < n; ++i) render_pixel_into(pc, x + i, y, 1, ctx, image, passes, &hits[i]);
+    for (int i = 0; i < n; ++i) render_pixel_into(pc, px[i], py[i], 1, ctx, image, passes, &hits[i]);
   }
 }
 
@@ -196,7 +210,8 @@ TileRenderer::TileRenderer(const Integrator& integrator, const Scene& scene, con
 TileRenderer::~TileRenderer() = default;
 
 void TileRenderer::render(int x0, int y0, int x1, int y1, TraceContext& ctx, Image& image) const {
-  for (int y = y0; y < y1; ++y) render_first_pass_row(context_->pc, accel_, y, x0, x1, ctx, image, nullptr);
+  for (int y = y0; y < y1; y += kPacketRows)
+    render_first_pass_rows(context_->pc, accel_, y, std::min(y + kPacketRows, y1), x0, x1, ctx, image, nullptr);
 }
 
 TileProgress::TileProgress(int width, int height, int tile)
@@ -313,9 +328,10 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
   int threads_used = 1;
   RayStats total;
 
-  // Each stage renders whole rows of a tile and checks for a cancel between
-  // rows; each worker writes only its own tiles' flags and pixels.
-  auto run_stage = [&](uint8_t stage, auto render_row) {
+  // Each stage renders whole rows of a tile, `rows` at a time, and checks
+  // for a cancel between them; each worker writes only its own tiles' flags
+  // and pixels.
+  auto run_stage = [&](uint8_t stage, int rows, auto render_rows) {
     const std::vector<int> todo = tiles_before(stage);
     const int threads =
         std::max(1, std::min(resolve_thread_count(options.threads), std::max(1, static_cast<int>(todo.size()))));
@@ -324,16 +340,17 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
       int x0, y0, x1, y1;
       tile_rect(t, x0, y0, x1, y1);
       bool complete = !cancelled();
-      for (int y = y0; y < y1 && complete; ++y) {
-        render_row(y, x0, x1, ctx);
-        complete = !cancelled() || y + 1 == y1;
+      for (int y = y0; y < y1 && complete; y += rows) {
+        const int y_end = std::min(y + rows, y1);
+        render_rows(y, y_end, x0, x1, ctx);
+        complete = !cancelled() || y_end == y1;
       }
       if (complete) progress.done[static_cast<size_t>(t)] = stage;
     });
   };
 
-  run_stage(1, [&](int y, int x0, int x1, TraceContext& ctx) {
-    render_first_pass_row(pc, accel, y, x0, x1, ctx, image, passes);
+  run_stage(1, kPacketRows, [&](int y0, int y1, int x0, int x1, TraceContext& ctx) {
+    render_first_pass_rows(pc, accel, y0, y1, x0, x1, ctx, image, passes);
   });
   if (adaptive && !cancelled() &&
       std::all_of(progress.done.begin(), progress.done.end(), [](uint8_t d) { return d >= 1; })) {
@@ -341,7 +358,7 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
     // the choice never depends on which tiles happened to be finished.
     if (progress.refine.empty()) progress.refine = find_pixels_to_refine(image, adaptive->threshold);
     const int more = adaptive->max_samples_per_pixel;
-    run_stage(2, [&](int y, int x0, int x1, TraceContext& ctx) {
+    run_stage(2, 1, [&](int y, int, int x0, int x1, TraceContext& ctx) {
       for (int x = x0; x < x1; ++x)
         if (progress.refine[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)])
           render_pixel_into(pc, x, y, more, ctx, image, passes);
