@@ -41,8 +41,8 @@ class Accelerator {
   virtual bool occluded(const Ray& ray) const = 0;
   // Closest hits of up to kPacketSize rays at once (camera rays of
   // neighbouring pixels): the same answers as intersect() ray by ray, which
-  // is what the default does. Our BVH traces a packet together when the
-  // scene is one mesh object (and planes).
+  // is what the default does. Our BVH traces a packet together (the rays'
+  // direction signs alike; else ray by ray).
   virtual void intersect_packet(const Ray* rays, int count, std::optional<Hit>* hits) const {
     for (int i = 0; i < count; ++i) hits[i] = intersect(rays[i]);
   }
@@ -55,7 +55,7 @@ class Accelerator {
   // occluded_cached for up to kPacketSize shadow rays at once (from the
   // points of neighbouring pixels toward one light): blocked[i] is
   // occluded(rays[i]), which is what the default asks ray by ray. Our BVH
-  // traces a packet together when the scene is one mesh object (and planes).
+  // traces a packet together (the rays' direction signs alike).
   virtual void occluded_packet(const Ray* rays, int count, bool* blocked, uint32_t& cache) const {
     for (int i = 0; i < count; ++i) blocked[i] = occluded_cached(rays[i], cache);
   }
