@@ -369,7 +369,12 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel)
 
 template <class Recorder>
 Color Integrator::cast(const Ray& ray, int depth, TraceContext& ctx, Recorder& rec) const {
-  const std::optional<Hit> hit = accel_.intersect(ray);
+  return cast_with_hit(ray, accel_.intersect(ray), depth, ctx, rec);
+}
+
+template <class Recorder>
+Color Integrator::cast_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth, TraceContext& ctx,
+                                Recorder& rec) const {
   if (hit && depth == 1) ctx.stats.camera_hits++;
   Color color = scene_.render.background;
   if (hit) color = shade(ray, *hit, depth, ctx, rec).sum();
@@ -428,6 +433,14 @@ struct PreparedSample {
   double n_dot_l = 0;
   double scale = 1;  // the sample's weight, spot factor and attenuation
   Ray shadow;
+};
+
+// The rays a shaded point casts on (add_secondary_rays): the reflected one
+// and, through a transparent surface, the refracted one, with their weights.
+struct SecondaryRays {
+  Color reflect_weight, refract_weight;
+  Ray reflected, refracted;
+  bool reflects = false, refracts = false;
 };
 
 namespace {
@@ -502,8 +515,36 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
       out[i].specular += terms[i].specular;
     }
   }
+  // add_secondary_rays for each point, the reflected rays traced as one
+  // packet (off a mirror floor they are as coherent as the camera rays);
+  // refracted rays one by one.
+  PacketSlots<SecondaryRays> secondary;
+  Ray reflected[kPacketSize];
+  int reflecting[kPacketSize];
+  int n = 0;
   for (int i = 0; i < count; ++i) {
-    if (shaded[i]) add_secondary_rays(at[i], 1, ctx, rec, out[i]);
+    if (!shaded[i]) continue;
+    new (&secondary[i]) SecondaryRays(secondary_rays(at[i], 1));
+    if (secondary[i].reflects) {
+      reflected[n] = secondary[i].reflected;
+      reflecting[n++] = i;
+    }
+  }
+  std::optional<Hit> reflected_hits[kPacketSize];
+  if (n > 0) accel_.intersect_packet(reflected, n, reflected_hits);
+  for (int k = 0; k < n; ++k) {
+    const SecondaryRays& s = secondary[reflecting[k]];
+    ctx.stats.reflection++;
+    auto child = rec.reflection(s.reflect_weight);
+    out[reflecting[k]].reflection = s.reflect_weight * cast_with_hit(reflected[k], reflected_hits[k], 2, ctx, child);
+  }
+  for (int i = 0; i < count; ++i) {
+    if (shaded[i] && secondary[i].refracts) {
+      const SecondaryRays& s = secondary[i];
+      ctx.stats.refraction++;
+      auto child = rec.refraction(s.refract_weight);
+      out[i].transmission = s.refract_weight * cast(s.refracted, 2, ctx, child);
+    }
     colors[i] = hits[i] ? out[i].sum() : scene_.render.background;
   }
 }
@@ -626,9 +667,8 @@ ShadeTerms Integrator::light_terms(const ShadingPoint& at, uint32_t li, TraceCon
   return terms;
 }
 
-template <class Recorder>
-void Integrator::add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec,
-                                    ShadeTerms& out) const {
+SecondaryRays Integrator::secondary_rays(const ShadingPoint& at, int depth) const {
+  SecondaryRays out;
   // Weights of the reflected and refracted rays (contract: materials, fresnel).
   const Material& m = scene_.materials[at.sp.material];
   const double cos_theta = std::clamp(dot(at.v, at.n), 0.0, 1.0);
@@ -640,9 +680,7 @@ void Integrator::add_secondary_rays(const ShadingPoint& at, int depth, TraceCont
     reflect_weight = schlick(m.reflectivity, cos_theta) + Color(m.transparency * s_glass);
     refract_weight = Color(m.transparency * (1.0 - s_glass));
   }
-  if (depth + 1 > scene_.render.max_depth) return;
-  Vec3 refracted_dir;
-  bool refracts = false;
+  if (depth + 1 > scene_.render.max_depth) return out;
   if (!is_black(refract_weight)) {
     // Snell's law; the inside has index ior, the outside 1.
     const double eta = at.entering ? 1.0 / m.ior : m.ior;
@@ -650,21 +688,32 @@ void Integrator::add_secondary_rays(const ShadingPoint& at, int depth, TraceCont
     if (k < 0.0) {
       reflect_weight += refract_weight;  // total internal reflection
     } else {
-      refracted_dir = eta * at.d + (eta * cos_theta - std::sqrt(k)) * at.n;
-      refracts = true;
+      out.refracted = Ray{at.below, eta * at.d + (eta * cos_theta - std::sqrt(k)) * at.n};
+      out.refract_weight = refract_weight;
+      out.refracts = true;
     }
   }
   if (!is_black(reflect_weight)) {
-    ctx.stats.reflection++;
-    const Ray reflected{at.above, reflect(at.d, at.n)};
-    auto child = rec.reflection(reflect_weight);
-    out.reflection = reflect_weight * cast(reflected, depth + 1, ctx, child);
+    out.reflected = Ray{at.above, reflect(at.d, at.n)};
+    out.reflect_weight = reflect_weight;
+    out.reflects = true;
   }
-  if (refracts) {
+  return out;
+}
+
+template <class Recorder>
+void Integrator::add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec,
+                                    ShadeTerms& out) const {
+  const SecondaryRays s = secondary_rays(at, depth);
+  if (s.reflects) {
+    ctx.stats.reflection++;
+    auto child = rec.reflection(s.reflect_weight);
+    out.reflection = s.reflect_weight * cast(s.reflected, depth + 1, ctx, child);
+  }
+  if (s.refracts) {
     ctx.stats.refraction++;
-    const Ray refracted{at.below, refracted_dir};
-    auto child = rec.refraction(refract_weight);
-    out.transmission = refract_weight * cast(refracted, depth + 1, ctx, child);
+    auto child = rec.refraction(s.refract_weight);
+    out.transmission = s.refract_weight * cast(s.refracted, depth + 1, ctx, child);
   }
 }
 

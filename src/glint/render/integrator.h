@@ -110,6 +110,7 @@ struct RayTrace {
 struct ShadingPoint;
 struct LightSample;
 struct PreparedSample;
+struct SecondaryRays;
 
 class Integrator {
  public:
@@ -147,6 +148,10 @@ class Integrator {
   // explain's TraceRecorder, which fills a RayTrace.
   template <class Recorder>
   Color cast(const Ray& ray, int depth, TraceContext& ctx, Recorder& rec) const;
+  // cast() once the ray's hit is known.
+  template <class Recorder>
+  Color cast_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth, TraceContext& ctx,
+                      Recorder& rec) const;
   template <class Recorder>
   ShadeTerms shade(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx, Recorder& rec) const;
   // One light's ambient, diffuse and specular at the point.
@@ -172,6 +177,8 @@ class Integrator {
   // The weighted reflected and refracted rays, into out.reflection and out.transmission.
   template <class Recorder>
   void add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec, ShadeTerms& out) const;
+  // Which of them a point at `depth` casts, their weights and rays.
+  SecondaryRays secondary_rays(const ShadingPoint& at, int depth) const;
 
   const Scene& scene_;
   const Accelerator& accel_;
