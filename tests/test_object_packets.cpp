@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -246,6 +247,62 @@ TEST(ObjectPackets, TinyTreesAndPlanesOnly) {
       }
     EXPECT_GT(hits, 100);
   }
+}
+
+// Overlapping boxes that share their top face (and spheres that touch):
+// rays meet several objects at exactly the same distance. The lower object
+// index wins, as in brute force, whatever order the tree's leaves are
+// visited in, so a ray gives the same hit alone, in a packet of 4 x 4 (as
+// the renderer makes them) and in brute force.
+TEST(ObjectPackets, TiesGoToTheLowerObjectIndex) {
+  std::ostringstream o;
+  o << R"({"type": "plane", "point": [0, 1, 0], "normal": [0, 1, 0]})";  // the boxes' top, too
+  for (int k = 0; k < 64; ++k) {
+    const double x = (k % 8) - 4, z = (k / 8) - 4;
+    o << R"(, {"type": "box", "min": )" << vec(x, 0, z) << R"(, "max": )" << vec(x + 2.5, 1, z + 2.5) << "}";
+    o << R"(, {"type": "sphere", "center": )" << vec(x + 0.5, 1.5, z) << R"(, "radius": 0.5})";
+    o << R"(, {"type": "sphere", "center": )" << vec(x + 0.5, 1.5, z + 1) << R"(, "radius": 0.5})";
+  }
+  std::ostringstream json;
+  json << R"({"camera": {"position": [1, 9, 11], "look_at": [0, 1, 0], "fov_y": 55},
+    "lights": [{"type": "point", "position": [3, 9, 4]}], "objects": [)"
+       << o.str() << "]}";
+  const Scene scene = parse_scene(json.str(), "ties.json", fs::path(GLINT_SOURCE_DIR));
+  const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
+  const auto brute = build_brute_force(scene);
+  const int w = 128, h = 96;
+  const CameraFrame frame = make_camera_frame(scene.camera, w, h);
+  int compared = 0, ties = 0;
+  for (int y0 = 0; y0 < h; y0 += 4)
+    for (int x0 = 0; x0 < w; x0 += 4) {
+      Ray rays[kPacketSize];
+      int n = 0;
+      for (int y = y0; y < y0 + 4; ++y)
+        for (int x = x0; x < x0 + 4; ++x) rays[n++] = generate_camera_ray(frame, (x + 0.5) / w, (y + 0.5) / h);
+      std::optional<Hit> got[kPacketSize];
+      bvh->intersect_packet(rays, n, got);
+      for (int i = 0; i < n; ++i) {
+        const std::optional<Hit> alone = bvh->intersect(rays[i]), want = brute->intersect(rays[i]);
+        ASSERT_EQ(got[i].has_value(), want.has_value());
+        ASSERT_EQ(alone.has_value(), want.has_value());
+        if (!want) continue;
+        ++compared;
+        EXPECT_EQ(got[i]->object, want->object) << "packet, pixel " << x0 + i % 4 << "," << y0 + i / 4;
+        EXPECT_EQ(alone->object, want->object) << "alone, pixel " << x0 + i % 4 << "," << y0 + i / 4;
+        EXPECT_TRUE(same_bits(got[i]->t, want->t) && same_bits(alone->t, want->t));
+        // A tie: some other object is hit at the very same distance.
+        Ray beyond = rays[i];
+        beyond.t_max = std::nextafter(want->t, kInfinity);
+        int at_t = 0;
+        for (uint32_t k = 0; k < scene.objects.size(); ++k) {
+          Hit hk;
+          at_t += intersect_object(scene, k, beyond, hk) && hk.t == want->t;
+        }
+        ties += at_t > 1;
+      }
+    }
+  EXPECT_GT(compared, 4000);
+  EXPECT_GT(ties, 1000);  // the case this test is about
 }
 
 }  // namespace

@@ -5,6 +5,9 @@
 #include "glint/accel/accelerator.h"
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
 #include <optional>
 
 #include "glint/accel/huge_pages.h"
@@ -49,6 +52,15 @@ inline bool plane_crossing(const Plane& p, const Ray& ray, double& t) {
   if (!ahead && ray.t_min >= 0.0) return false;
   t = num / denom;
   return t > ray.t_min && t < ray.t_max;
+}
+
+// std::nextafter(t, +infinity) without the library call (the object BVH's
+// leaves ask it for every leaf once a ray has a hit).
+inline double double_above(double t) {
+  if (t == 0.0) return std::numeric_limits<double>::denorm_min();
+  if (!(t < kInfinity)) return t;  // +inf, NaN
+  const uint64_t bits = std::bit_cast<uint64_t>(t);
+  return std::bit_cast<double>(t > 0.0 ? bits + 1 : bits - 1);
 }
 
 // Closest hit among a mesh's triangles (ray in the mesh's space): through its
@@ -268,8 +280,8 @@ class BvhAccelerator final : public Accelerator {
       // One mesh: its own BVH is the whole tree (the top level would hold one box).
       found |= intersect_object(scene_, single_mesh_, ray, best, &mesh_bvhs_);
     } else {
-      found |= traverse_closest_leaves(
-          bvh_, ray, [&](uint32_t first, uint32_t count, Ray& r) { return leaf_closest(first, count, r, best); });
+      traverse_closest_leaves(bvh_, ray,
+                              [&](uint32_t first, uint32_t count, Ray& r) { return leaf_closest(first, count, r, best, found); });
     }
     if (!found) result.reset();
     return result;
@@ -408,34 +420,57 @@ class BvhAccelerator final : public Accelerator {
   }
 
   // The objects of a leaf of the tree (slots first .. first + count) against
-  // `r`: a nearer hit into `best`, r.t_max lowered to it.
-  bool leaf_closest(uint32_t first, uint32_t count, Ray& r, Hit& best) const {
-    bool hit = false;
+  // `r`: a nearer hit into `best` (`found` says whether it holds one), and
+  // r.t_max lowered to it. Of two hits at the same distance the lower object
+  // index wins, as in brute force: the answer must not depend on the order
+  // leaves are visited in, which differs between a ray alone and in a packet.
+  // So a leaf is tested up to just past the best distance (its objects there
+  // are compared), and r.t_max is set back to that distance after.
+  bool leaf_closest(uint32_t first, uint32_t count, Ray& r, Hit& best, bool& found) const {
+    // Locals, not the references: the compiler then keeps them in registers.
+    bool have = found, hit = false;
+    double best_t = have ? best.t : r.t_max;
+    uint32_t best_object = have ? best.object : 0;
+    if (have) r.t_max = double_above(best_t);
+    auto better = [&](double t, uint32_t object) {
+      return !have || t < best_t || (t == best_t && object < best_object);
+    };
+    auto took = [&](double t, uint32_t object) {
+      have = hit = true;
+      best_t = t;
+      best_object = object;
+      r.t_max = double_above(t);
+    };
     if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
       for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
         const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
-        if (intersect_object(scene_, object, r, best, &mesh_bvhs_)) {
-          r.t_max = best.t;
-          hit = true;
+        Hit h;
+        if (intersect_object(scene_, object, r, h, &mesh_bvhs_) && better(h.t, object)) {
+          best = h;
+          took(h.t, object);
         }
       }
-      return hit;
-    }
-    for (uint32_t i = first; i < first + count; ++i) {
-      const Slot& slot = slots_[i];
-      if (slot.is_sphere) {
-        // intersect_object's sphere case, without its two lookups.
-        if (const auto t = intersect_sphere(slot.sphere, r)) {
-          set_hit(best, *t, slot.object, 0, 0, 0, 0);
-          best.vertices = {};
-          r.t_max = *t;
-          hit = true;
+    } else {
+      for (uint32_t i = first; i < first + count; ++i) {
+        const Slot& slot = slots_[i];
+        if (slot.is_sphere) {
+          // intersect_object's sphere case, without its two lookups.
+          if (const auto t = intersect_sphere(slot.sphere, r); t && better(*t, slot.object)) {
+            set_hit(best, *t, slot.object, 0, 0, 0, 0);
+            best.vertices = {};
+            took(*t, slot.object);
+          }
+        } else {
+          Hit h;
+          if (intersect_object(scene_, slot.object, r, h, &mesh_bvhs_) && better(h.t, slot.object)) {
+            best = h;
+            took(h.t, slot.object);
+          }
         }
-      } else if (intersect_object(scene_, slot.object, r, best, &mesh_bvhs_)) {
-        r.t_max = best.t;
-        hit = true;
       }
     }
+    if (have) r.t_max = best_t;
+    found = have;
     return hit;
   }
 
@@ -463,10 +498,10 @@ class BvhAccelerator final : public Accelerator {
   void intersect_objects_packet(const Ray* rays, int count, std::optional<Hit>* hits) const {
     Ray r[kPacketSize];
     Hit best[kPacketSize];
-    int found = 0;
+    bool found[kPacketSize];
     for (int i = 0; i < count; ++i) {
       r[i] = rays[i];
-      if (intersect_planes(r[i], best[i])) found |= 1 << i;
+      found[i] = intersect_planes(r[i], best[i]);
     }
     RayPacket packet = make_ray_packet(r, count);
     for (int i = 0; i < count; ++i) packet.t_max[i] = clamp_to_float(r[i].t_max);  // as traverse_closest_leaves
@@ -474,23 +509,21 @@ class BvhAccelerator final : public Accelerator {
       int lowered = 0;
       for (; mask; mask &= mask - 1) {
         const int i = __builtin_ctz(static_cast<unsigned>(mask));
-        if (leaf_closest(first, n, r[i], best[i])) {
+        if (leaf_closest(first, n, r[i], best[i], found[i])) {
           packet.t_max[i] = clamp_to_float(r[i].t_max);
           lowered |= 1 << i;
         }
       }
-      found |= lowered;
       return lowered;
     });
     if (!traced) {
       for (int i = 0; i < count; ++i)
-        if (traverse_closest_leaves(bvh_, r[i], [&](uint32_t first, uint32_t n, Ray& ray) {
-              return leaf_closest(first, n, ray, best[i]);
-            }))
-          found |= 1 << i;
+        traverse_closest_leaves(bvh_, r[i], [&](uint32_t first, uint32_t n, Ray& ray) {
+          return leaf_closest(first, n, ray, best[i], found[i]);
+        });
     }
     for (int i = 0; i < count; ++i) {
-      if (found >> i & 1) hits[i] = best[i];
+      if (found[i]) hits[i] = best[i];
       else hits[i].reset();
     }
   }
