@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "glint/accel/accelerator.h"
+#include "glint/accel/huge_pages.h"
 #include "glint/error.h"
 #include "glint/image/image.h"
 #include "glint/io/file_io.h"
@@ -275,6 +276,9 @@ int run_render_local(const RenderArgs& args) {
   // its first tile (and still leaves a resume file), rather than killing glint.
   install_interrupt_handlers();
   check_before_load(args);
+  // From the load through every frame's build: the mesh file's bytes, freed
+  // after parsing, serve the build's first big buffer (accel/huge_pages.h).
+  const BufferRecycling recycling;
   std::vector<unsigned char> description;
   Scene scene = load_for_render(args, description);
   const std::vector<FrameOutput> plan = plan_frames(scene, args.output_path, args.frames);

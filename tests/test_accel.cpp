@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <memory>
 
 #include "glint/accel/accelerator.h"
 #include "glint/accel/huge_pages.h"
@@ -762,6 +763,13 @@ namespace {
 // release_recycled_buffer (which build_accelerator calls) frees it.
 TEST(RecycledBuffer, KeepsTheLargerAndGivesItToARequestItFits) {
   release_recycled_buffer();
+  {  // without a BufferRecycling alive nothing is kept
+    void* p = std::aligned_alloc(kHugePageBytes, size_t{4} << 20);
+    ASSERT_TRUE(p);
+    EXPECT_FALSE(keep_recycled_buffer(p, size_t{4} << 20));
+    std::free(p);
+  }
+  auto scope = std::make_unique<BufferRecycling>();
   constexpr size_t MiB = size_t{1} << 20;
   void* big = std::aligned_alloc(kHugePageBytes, 8 * MiB);
   void* small = std::aligned_alloc(kHugePageBytes, 4 * MiB);
@@ -791,7 +799,9 @@ TEST(RecycledBuffer, KeepsTheLargerAndGivesItToARequestItFits) {
   HugePageVector<char> b(10 * MiB);
   EXPECT_EQ(b.data(), first);
   b[10 * MiB - 1] = 3;
-  release_recycled_buffer();
+  b = HugePageVector<char>();  // freed: kept
+  scope.reset();               // the last scope releases it
+  EXPECT_EQ(take_recycled_buffer(2 * MiB), nullptr);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@ struct Recycled {
   std::mutex mutex;
   void* buffer = nullptr;
   size_t bytes = 0;  // usable: a multiple of 2 MiB
+  int scopes = 0;    // BufferRecycling objects alive
 };
 
 Recycled& recycled() {
@@ -40,7 +41,7 @@ bool keep_recycled_buffer(void* p, size_t bytes) {
   void* older = p;
   {
     std::lock_guard lock(r.mutex);
-    if (r.bytes >= bytes) return false;  // the larger one stays
+    if (r.scopes == 0 || r.bytes >= bytes) return false;  // none asked for; or the larger one stays
     older = std::exchange(r.buffer, p);
     r.bytes = bytes;
   }
@@ -57,6 +58,22 @@ void release_recycled_buffer() {
     r.bytes = 0;
   }
   std::free(p);
+}
+
+BufferRecycling::BufferRecycling() {
+  Recycled& r = recycled();
+  std::lock_guard lock(r.mutex);
+  ++r.scopes;
+}
+
+BufferRecycling::~BufferRecycling() {
+  Recycled& r = recycled();
+  bool last = false;
+  {
+    std::lock_guard lock(r.mutex);
+    last = --r.scopes == 0;
+  }
+  if (last) release_recycled_buffer();
 }
 
 }  // namespace glint

@@ -23,15 +23,26 @@ inline constexpr size_t kHugePageThreshold = size_t{4} << 20;
 
 // The big buffers of a render come one after another: the mesh file's
 // bytes, then the build's boxes, its binary tree, the wide nodes, the leaf
-// blocks. Each freed one is kept (one at a time, the largest) for the next
-// to reuse: its pages are already there, where fresh ones cost a fault and
-// the kernel's zeroing each (about 0.2 ms a MB here). Part of a kept buffer
-// beyond what the next one asks for is given back (MADV_DONTNEED), so it
-// holds no more memory than asked. build_accelerator releases what is left.
-// Sizes are rounded to 2 MiB; both return nullptr / false when unused.
+// blocks. While a BufferRecycling lives, each freed one is kept (one at a
+// time, the largest) for the next to reuse: its pages are already there,
+// where fresh ones cost a fault and the kernel's zeroing each (about 0.2 ms
+// a MB here). Part of a kept buffer beyond what the next one asks for is
+// given back (MADV_DONTNEED), so it holds no more memory than asked.
+// build_accelerator opens one for the build and releases the kept buffer at
+// its end; the glint program opens one around loading the scene, so the
+// mesh file's bytes serve the build. Without one, buffers are freed as
+// usual (a library user's process keeps nothing).
+// Sizes are rounded to 2 MiB; take/keep return nullptr / false when unused.
 void* take_recycled_buffer(size_t bytes);
 bool keep_recycled_buffer(void* p, size_t bytes);
 void release_recycled_buffer();
+class BufferRecycling {
+ public:
+  BufferRecycling();
+  ~BufferRecycling();  // the last one releases the kept buffer
+  BufferRecycling(const BufferRecycling&) = delete;
+  BufferRecycling& operator=(const BufferRecycling&) = delete;
+};
 
 template <class T>
 struct HugePageAllocator {

@@ -610,10 +610,11 @@ class BvhAccelerator final : public Accelerator {
 }  // namespace
 
 std::unique_ptr<Accelerator> build_accelerator(const Scene& scene, const AcceleratorOptions& options) {
+  const BufferRecycling recycling;  // the build's big buffers reuse each other's pages (huge_pages.h)
   std::unique_ptr<Accelerator> accel = options.backend == AccelBackend::embree
                                            ? build_embree_accelerator(scene, options)
                                            : std::make_unique<BvhAccelerator>(scene, options);
-  release_recycled_buffer();  // the build's last big buffer, or the mesh file's (huge_pages.h)
+  release_recycled_buffer();  // the build's last one, or the mesh file's
   return accel;
 }
 
