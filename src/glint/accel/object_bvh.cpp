@@ -350,13 +350,7 @@ class BvhAccelerator final : public Accelerator {
     const MeshBvh& mesh_bvh = mesh_bvhs_[object.shape];
     Ray open[kPacketSize];
     int index[kPacketSize];
-    int n = 0;
-    for (int i = 0; i < count; ++i) {
-      blocked[i] = std::any_of(planes_.begin(), planes_.end(), [&](const PlaneSlot& p) { return blocks(p, rays[i]); });
-      if (blocked[i]) continue;
-      open[n] = to_object_space(scene_, object, rays[i]);
-      index[n++] = i;
-    }
+    const int n = rays_past_planes(rays, count, blocked, &object, open, index);
     if (n == 0) return;
     RayPacket packet = make_ray_packet(open, n);
     if (!intersect_mesh_packet(mesh_bvh, packet)) {
@@ -536,13 +530,7 @@ class BvhAccelerator final : public Accelerator {
   void occluded_objects_packet(const Ray* rays, int count, bool* blocked, uint32_t& cache) const {
     Ray open[kPacketSize];
     int index[kPacketSize];
-    int n = 0;
-    for (int i = 0; i < count; ++i) {
-      blocked[i] = std::any_of(planes_.begin(), planes_.end(), [&](const PlaneSlot& p) { return blocks(p, rays[i]); });
-      if (blocked[i]) continue;
-      open[n] = rays[i];
-      index[n++] = i;
-    }
+    const int n = rays_past_planes(rays, count, blocked, nullptr, open, index);
     if (n == 0) return;
     RayPacket packet = make_ray_packet(open, n);
     for (int k = 0; k < n; ++k) packet.t_max[k] = clamp_to_float(open[k].t_max);  // as traverse_any_leaves
@@ -590,6 +578,19 @@ class BvhAccelerator final : public Accelerator {
     uint32_t object = 0;
     bool transformed = false;  // never made by the loader; tested through intersect_object
   };
+  // A shadow packet's first step: blocked[i] for the rays a plane blocks;
+  // the others into open[0 .. n) (in `object`'s space when given), index[k]
+  // saying which ray open[k] is. Returns n.
+  int rays_past_planes(const Ray* rays, int count, bool* blocked, const Object* object, Ray* open, int* index) const {
+    int n = 0;
+    for (int i = 0; i < count; ++i) {
+      blocked[i] = std::any_of(planes_.begin(), planes_.end(), [&](const PlaneSlot& p) { return blocks(p, rays[i]); });
+      if (blocked[i]) continue;
+      open[n] = object ? to_object_space(scene_, *object, rays[i]) : rays[i];
+      index[n++] = i;
+    }
+    return n;
+  }
   // Whether the plane blocks `ray` (any-hit).
   bool blocks(const PlaneSlot& p, const Ray& ray) const {
     double t = 0;

@@ -228,9 +228,10 @@ inline int packet_rays_hitting(const PacketBoxes& b, const BvhNode& n, int c, si
 // test reaches it), lowers p.t_max[i] (rounded as clamp_to_float rounds) to
 // a nearer hit, and returns the rays it lowered. Children are visited near
 // to far for the packet. p.t_max of unused rays is -inf (make_ray_packet).
+// `prefetch(first, count)` is told of each leaf as it is pushed.
 // False (nothing traced) when the rays' direction signs differ.
-template <class LeafFn>
-bool traverse_packet_closest(const Bvh& bvh, RayPacket& p, LeafFn&& leaf) {
+template <class LeafFn, class PrefetchFn = NoPrefetch>
+bool traverse_packet_closest(const Bvh& bvh, RayPacket& p, LeafFn&& leaf, PrefetchFn&& prefetch = {}) {
   using namespace simd16;
   bool negative[3];
   if (!packet_direction_signs(p, negative)) return false;
@@ -262,6 +263,7 @@ bool traverse_packet_closest(const Bvh& bvh, RayPacket& p, LeafFn&& leaf) {
         mask &= mask - 1;
         const Entry h{n.child[i], n.count[i], t[i], n.count[i] ? packet_rays_hitting(boxes, n, i, t_max) : 0};
         if (h.count && !h.rays) continue;
+        if (h.count) prefetch(h.child, h.count);  // on its way while the others are ordered
         int j = top++;  // sorted far to near
         while (j > first && stack[j - 1].t < h.t) {
           stack[j] = stack[j - 1];
@@ -331,8 +333,8 @@ int traverse_packet_any(const Bvh& bvh, const RayPacket& p, LeafFn&& leaf) {
 
 #else
 
-template <class LeafFn>
-bool traverse_packet_closest(const Bvh&, RayPacket&, LeafFn&&) {
+template <class LeafFn, class PrefetchFn = NoPrefetch>
+bool traverse_packet_closest(const Bvh&, RayPacket&, LeafFn&&, PrefetchFn&& = {}) {
   return false;
 }
 template <class LeafFn>

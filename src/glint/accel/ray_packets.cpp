@@ -54,15 +54,13 @@ int dominant_axis(float x, float y, float z) {
 
 }  // namespace
 
-// glint:long-function: the hot 16-ray packet traversal, kept as one loop on
-// purpose: its state (stack, active masks, the lanes' t_max) stays in
-// registers across nodes and leaves; not split without a benchmark.
+// glint:long-function: the hot 16-ray packet kernel, kept as one function on
+// purpose: its leaf tests' state (the lanes' t_max and hits) stays in
+// registers across leaves; not split without a benchmark.
 bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
   if (m.bvh.nodes.empty()) return true;
   // One shear frame and one set of direction signs for the whole packet.
   const int kz = dominant_axis(p.direction[0][0], p.direction[1][0], p.direction[2][0]);
-  bool negative[3];
-  if (!packet_direction_signs(p, negative)) return false;
   for (int i = 1; i < kPacketSize; ++i)
     if (dominant_axis(p.direction[0][i], p.direction[1][i], p.direction[2][i]) != kz) return false;
   const int kx = kz == 2 ? 0 : kz + 1;
@@ -75,19 +73,16 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
     sx[i] = -p.direction[kx][i] * sz[i];
     sy[i] = -p.direction[ky][i] * sz[i];
   }
-  // Nodes are tested once for the whole packet, like a single ray
-  // (packet_children); a child is entered when any ray may hit it; leaves
-  // are then tested against every ray whose own box test passes, so a ray's
-  // hits are exactly its own.
-  const PacketBoxes boxes = make_packet_boxes(p, negative);
-  const F16* origin = boxes.origin;
+  // Nodes are tested once for the whole packet (traverse_packet_closest); a
+  // child is entered when any ray may hit it; leaves are then tested against
+  // every ray whose own box test passes, so a ray's hits are exactly its own.
+  F16 origin[3];
+  for (int a = 0; a < 3; ++a) origin[a] = load16(p.origin[a]);
   const F16 shear_x = load16(sx), shear_y = load16(sy), shear_z = load16(sz);
   const F16 t_min = load16(p.t_min);  // triangles are tested from t_min itself
   F16 t_max = load16(p.t_max);
   I16 hit_triangle = splat16i(kNoHitId);
   I16 hit_slot = splat16i(0);  // block * 4 + lane of the hit
-  // The farthest any ray still looks (its hit, or its t_max): boxes behind it are skipped.
-  float node_t_max = max_lane(t_max);
 
   // A block against the rays in `mask`, each triangle against all of them at
   // once (worth it when many rays reach the block).
@@ -155,72 +150,35 @@ bool intersect_mesh_packet(const MeshBvh& m, RayPacket& p) {
     return hit;
   };
 
-  // `mask`: for a leaf, the rays whose own box test passed.
-  struct Entry {
-    uint32_t child, count;
-    float t;
-    int mask;
-  };
-  Entry stack[kTraversalStack];
-  int top = 0;
-  // As in traverse_closest_leaves: the nearest child is visited next without
-  // a trip through the stack.
-  Entry e{0, 0, -INFINITY, 0};
-  for (;;) {
-    if (e.count > 0) {
-      bool hit = false;
-      if (__builtin_popcount(e.mask) >= kLeafRaysForSimd) {
-        for (uint32_t b = e.child; b < e.child + e.count; ++b) hit |= block_all_rays(b, e.mask);
-      } else {
-        store16(ray_t_max, t_max);
-        store16(ray_triangle, hit_triangle);
-        store16(ray_slot, hit_slot);
-        for (int rays = e.mask; rays; rays &= rays - 1)
-          for (uint32_t b = e.child; b < e.child + e.count; ++b) hit |= block_one_ray(b, __builtin_ctz(rays));
-        if (hit) {
-          t_max = load16(ray_t_max);
-          hit_triangle = load16(ray_triangle);
-          hit_slot = load16(ray_slot);
-        }
-      }
-      if (hit) node_t_max = max_lane(t_max);
-    } else {
-      const BvhNode& n = m.bvh.nodes[e.child];
-      alignas(32) float t[kBvhWidth];
-      int mask = packet_children(boxes, n, node_t_max, t);
-      if (mask) {
-        const int first = top;
-        while (mask) {
-          const int i = __builtin_ctz(mask);
-          mask &= mask - 1;
-          const Entry h{n.child[i], n.count[i], t[i], n.count[i] ? packet_rays_hitting(boxes, n, i, t_max) : 0};
-          if (h.count && !h.mask) continue;
-          if (h.count) {  // leaf blocks: on their way while the others are ordered
-            const char* block = reinterpret_cast<const char*>(&m.blocks[h.child]);
-            for (uint32_t line = 0; line < h.count * sizeof(Triangle4); line += 64)
-              _mm_prefetch(block + line, _MM_HINT_T0);
+  // The shared packet traversal (packet_traversal.h) visits the nodes; a
+  // leaf's blocks are tested here against the rays that reach it, the
+  // packet's hits kept in registers and its t_max handed back on a hit.
+  const bool traced = traverse_packet_closest(
+      m.bvh, p,
+      [&](uint32_t first, uint32_t count, int rays) {
+        bool hit = false;
+        if (__builtin_popcount(rays) >= kLeafRaysForSimd) {
+          for (uint32_t b = first; b < first + count; ++b) hit |= block_all_rays(b, rays);
+        } else {
+          store16(ray_t_max, t_max);
+          store16(ray_triangle, hit_triangle);
+          store16(ray_slot, hit_slot);
+          for (int r = rays; r; r &= r - 1)
+            for (uint32_t b = first; b < first + count; ++b) hit |= block_one_ray(b, __builtin_ctz(r));
+          if (hit) {
+            t_max = load16(ray_t_max);
+            hit_triangle = load16(ray_triangle);
+            hit_slot = load16(ray_slot);
           }
-          int j = top++;  // sorted far to near
-          while (j > first && stack[j - 1].t < h.t) {
-            stack[j] = stack[j - 1];
-            --j;
-          }
-          stack[j] = h;
         }
-        if (top > first) {
-          e = stack[--top];
-          continue;
-        }
-      }
-    }
-    // Next: the nearest pushed entry still in front of some ray's hit.
-    bool more = false;
-    while (top > 0 && !more) {
-      e = stack[--top];
-      more = e.t <= node_t_max * (1.0f + 0x1p-20f);
-    }
-    if (!more) break;
-  }
+        if (hit) store16(p.t_max, t_max);
+        return hit ? rays : 0;
+      },
+      [&](uint32_t first, uint32_t count) {  // leaf blocks: on their way while the others are ordered
+        const char* block = reinterpret_cast<const char*>(&m.blocks[first]);
+        for (uint32_t line = 0; line < count * sizeof(Triangle4); line += 64) _mm_prefetch(block + line, _MM_HINT_T0);
+      });
+  if (!traced) return false;  // direction signs differ
   store16(p.t_max, t_max);
   store16(p.triangle, hit_triangle);
   store16(p.slot, hit_slot);
