@@ -435,31 +435,30 @@ class BvhAccelerator final : public Accelerator {
       best_object = object;
       r.t_max = double_above(t);
     };
-    if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
-      for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-        const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
-        Hit h;
-        if (intersect_object(scene_, object, r, h, &mesh_bvhs_) && better(h.t, object)) {
-          best = h;
-          took(h.t, object);
-        }
+    // Any object through intersect_object, into a scratch hit: `best` keeps
+    // its hit when the new one loses the tie.
+    auto test_object = [&](uint32_t object) {
+      Hit h;
+      if (intersect_object(scene_, object, r, h, &mesh_bvhs_) && better(h.t, object)) {
+        best = h;
+        took(h.t, object);
       }
+    };
+    if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
+      for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1)
+        test_object(slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object);
     } else {
       for (uint32_t i = first; i < first + count; ++i) {
         const Slot& slot = slots_[i];
-        if (slot.is_sphere) {
-          // intersect_object's sphere case, without its two lookups.
-          if (const auto t = intersect_sphere(slot.sphere, r); t && better(*t, slot.object)) {
-            set_hit(best, *t, slot.object, 0, 0, 0, 0);
-            best.vertices = {};
-            took(*t, slot.object);
-          }
-        } else {
-          Hit h;
-          if (intersect_object(scene_, slot.object, r, h, &mesh_bvhs_) && better(h.t, slot.object)) {
-            best = h;
-            took(h.t, slot.object);
-          }
+        if (!slot.is_sphere) {
+          test_object(slot.object);
+          continue;
+        }
+        // intersect_object's sphere case, without its two lookups.
+        if (const auto t = intersect_sphere(slot.sphere, r); t && better(*t, slot.object)) {
+          set_hit(best, *t, slot.object, 0, 0, 0, 0);
+          best.vertices = {};
+          took(*t, slot.object);
         }
       }
     }

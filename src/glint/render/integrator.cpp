@@ -539,12 +539,7 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
     out[reflecting[k]].reflection = s.reflect_weight * cast_with_hit(reflected[k], reflected_hits[k], 2, ctx, child);
   }
   for (int i = 0; i < count; ++i) {
-    if (shaded[i] && secondary[i].refracts) {
-      const SecondaryRays& s = secondary[i];
-      ctx.stats.refraction++;
-      auto child = rec.refraction(s.refract_weight);
-      out[i].transmission = s.refract_weight * cast(s.refracted, 2, ctx, child);
-    }
+    if (shaded[i]) add_refraction(secondary[i], 1, ctx, rec, out[i]);
     colors[i] = hits[i] ? out[i].sum() : scene_.render.background;
   }
 }
@@ -710,11 +705,16 @@ void Integrator::add_secondary_rays(const ShadingPoint& at, int depth, TraceCont
     auto child = rec.reflection(s.reflect_weight);
     out.reflection = s.reflect_weight * cast(s.reflected, depth + 1, ctx, child);
   }
-  if (s.refracts) {
-    ctx.stats.refraction++;
-    auto child = rec.refraction(s.refract_weight);
-    out.transmission = s.refract_weight * cast(s.refracted, depth + 1, ctx, child);
-  }
+  add_refraction(s, depth, ctx, rec, out);
+}
+
+template <class Recorder>
+void Integrator::add_refraction(const SecondaryRays& s, int depth, TraceContext& ctx, Recorder& rec,
+                                ShadeTerms& out) const {
+  if (!s.refracts) return;
+  ctx.stats.refraction++;
+  auto child = rec.refraction(s.refract_weight);
+  out.transmission = s.refract_weight * cast(s.refracted, depth + 1, ctx, child);
 }
 
 template <class Recorder>

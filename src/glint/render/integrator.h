@@ -179,6 +179,9 @@ class Integrator {
   void add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec, ShadeTerms& out) const;
   // Which of them a point at `depth` casts, their weights and rays.
   SecondaryRays secondary_rays(const ShadingPoint& at, int depth) const;
+  // The refracted ray of `s`, when there is one, into out.transmission.
+  template <class Recorder>
+  void add_refraction(const SecondaryRays& s, int depth, TraceContext& ctx, Recorder& rec, ShadeTerms& out) const;
 
   const Scene& scene_;
   const Accelerator& accel_;
