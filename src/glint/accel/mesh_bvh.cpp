@@ -97,6 +97,16 @@ uint64_t mesh_bvh_digest(const Mesh& mesh, const BvhBuildOptions& options) {
   return hash;
 }
 
+BvhShape mesh_bvh_shape(const Mesh& mesh, const BvhBuildOptions& options) {
+  const MeshBvh bvh = build_mesh_bvh(mesh, options);
+  BvhShape shape;
+  shape.nodes = bvh.bvh.nodes.size();
+  shape.width = kBvhWidth;
+  for (const BvhNode& n : bvh.bvh.nodes)
+    for (int i = 0; i < kBvhWidth; ++i) shape.leaves += n.count[i] > 0;
+  return shape;
+}
+
 namespace {
 
 float float_t_min(const Ray& ray) { return static_cast<float>(ray.t_min); }

@@ -32,6 +32,15 @@ MeshBvh build_mesh_bvh(const Mesh& mesh, const BvhBuildOptions& options = {});
 // for the library's SIMD width and so cannot hold a MeshBvh, compare trees.
 uint64_t mesh_bvh_digest(const Mesh& mesh, const BvhBuildOptions& options);
 
+// The shape of the tree build_mesh_bvh(mesh, options) makes, for the tests
+// (which cannot hold a MeshBvh): its wide nodes, its leaves and the slots
+// a node has.
+struct BvhShape {
+  size_t nodes = 0, leaves = 0;
+  int width = 0;
+};
+BvhShape mesh_bvh_shape(const Mesh& mesh, const BvhBuildOptions& options);
+
 // The nearest triangle hit in (ray.t_min, ray.t_max), in float: its index,
 // distance and where its vertices are (`slot` = block * 4 + lane in
 // MeshBvh::blocks, already in cache, so shading need not read the mesh
