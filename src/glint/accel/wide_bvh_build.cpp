@@ -360,6 +360,7 @@ class CollapsePlan {
 
  private:
   using Costs = std::array<double, kBvhWidth>;  // costs[k - 1] = cost(m, k)
+  static constexpr double kWideNodeTieBreak = 1e-300;
   // choices[0]: how many of a wide node's slots go to the first child;
   // choices[k - 1] (k >= 2): the same when m may take k slots, 0 when it
   // takes one slot as a wide node of its own.
@@ -382,14 +383,18 @@ class CollapsePlan {
       costs.fill(0.0);  // a leaf: one slot, no wide node
       return;
     }
-    // In double: the areas of a huge scene overflow float.
+    // In double: the areas of a huge scene overflow float. (An infinite
+    // extent times a zero one is NaN: infinite then.)
     const double dx = double(n.hi[0]) - n.lo[0], dy = double(n.hi[1]) - n.lo[1], dz = double(n.hi[2]) - n.lo[2];
-    const double area = dx * dy + dy * dz + dz * dx;
+    double area = dx * dy + dy * dz + dz * dx;
+    if (std::isnan(area)) area = INFINITY;
     Costs first, second;
     if (parallel_depth > 0) {
-      std::thread other([&] { plan(n.first, first, parallel_depth - 1); });
+      // std::async joins and passes an exception on (a std::thread left
+      // joinable by one would terminate the program).
+      auto other = std::async(std::launch::async, [&] { plan(n.first, first, parallel_depth - 1); });
       plan(n.offset, second, parallel_depth - 1);
-      other.join();
+      other.get();
     } else {
       plan(n.first, first, 0);
       plan(n.offset, second, 0);
@@ -405,7 +410,10 @@ class CollapsePlan {
         choice[0] = static_cast<uint8_t>(j);
       }
     }
-    costs[0] = area + best;
+    // A wide node also adds a count too small to matter beside any area: of
+    // plans of equal area (a subtree of points, or of segments along an
+    // axis, has none) the one with fewer nodes wins.
+    costs[0] = area + kWideNodeTieBreak + best;
     for (int k = 2; k <= kBvhWidth; ++k) {
       double cost = costs[0];
       choice[k - 1] = 0;
@@ -571,7 +579,7 @@ Bvh build_from_refs(PrimRefs refs, const Bounds3& scene, const BvhBuildOptions& 
   const double pad = extent * 0x1p-20;
   const bool parallel = refs_count >= kParallelMinPrimitives;
   CollapsePlan plan(tree, tree.used());
-  plan.plan(root, parallel ? parallel_depth : 0);
+  plan.plan(root, parallel ? std::min(parallel_depth, 3) : 0);  // 8 subtrees: the plan is a small part of the build
   Collapser(tree, plan, pad, bvh).collapse_all(root, parallel ? threads : 1);
   return bvh;
 }
