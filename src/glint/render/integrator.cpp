@@ -427,12 +427,12 @@ CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::opt
   return out;
 }
 
-// A light sample up to its shadow ray (Integrator::prepare_light_sample).
+// A light sample up to its shadow ray (Integrator::prepare_light_sample,
+// which writes the shadow ray itself where the caller keeps it).
 struct PreparedSample {
   Vec3 l;  // unit, toward the light
   double n_dot_l = 0;
   double scale = 1;  // the sample's weight, spot factor and attenuation
-  Ray shadow;
 };
 
 // The rays a shaded point casts on (add_secondary_rays): the reflected one
@@ -496,9 +496,11 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
       if (light.type == LightType::ambient) continue;
       new (&sample[i]) LightSample(single_light_sample(light, li, at[i]));
       new (&prepared[i]) PreparedSample;
-      if (!prepare_light_sample(at[i], sample[i], prepared[i], rec)) continue;
+      // The shadow ray written in its place in the packet: copied from
+      // `prepared` it was loaded 64 bytes at once just after the call stored
+      // it in parts, which stalls (store forwarding).
+      if (!prepare_light_sample(at[i], sample[i], prepared[i], shadow[asked], rec)) continue;
       ctx.stats.shadow++;
-      shadow[asked] = prepared[i].shadow;
       pixel[asked++] = i;
     }
     if (asked > 0) {
@@ -522,14 +524,16 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
   Ray reflected[kPacketSize];
   int reflecting[kPacketSize];
   int n = 0;
-  for (int i = 0; i < count; ++i) {
-    if (!shaded[i]) continue;
-    new (&secondary[i]) SecondaryRays(secondary_rays(at[i], 1));
-    if (secondary[i].reflects) {
+  for (int i = 0; i < count; ++i)
+    if (shaded[i]) new (&secondary[i]) SecondaryRays(secondary_rays(at[i], 1));
+  // Gathered in a second pass: read back right after secondary_rays stored
+  // them in parts, the rays were loaded 64 bytes at once, which stalls
+  // (store forwarding).
+  for (int i = 0; i < count; ++i)
+    if (shaded[i] && secondary[i].reflects) {
       reflected[n] = secondary[i].reflected;
       reflecting[n++] = i;
     }
-  }
   std::optional<Hit> reflected_hits[kPacketSize];
   if (n > 0) accel_.intersect_packet(reflected, n, reflected_hits);
   for (int k = 0; k < n; ++k) {
@@ -548,7 +552,8 @@ template <class LightRecorder>
 void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, ShadeTerms& out, TraceContext& ctx,
                                   LightRecorder& rec) const {
   PreparedSample prepared;
-  if (!prepare_light_sample(at, s, prepared, rec)) return;
+  Ray shadow;
+  if (!prepare_light_sample(at, s, prepared, shadow, rec)) return;
   ctx.stats.shadow++;
   // The shadow cache serves point, spot and directional lights; an area
   // light's samples spread over its surface and mostly pass the last blocker
@@ -556,13 +561,13 @@ void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, 
   const Light& light = scene_.lights[s.light];
   uint32_t* cache =
       light.type != LightType::area && s.light < ctx.shadow_cache.size() ? &ctx.shadow_cache[s.light] : nullptr;
-  if (rec.blocked(accel_, prepared.shadow, cache)) return;
+  if (rec.blocked(accel_, shadow, cache)) return;
   add_lit_sample(at, s, prepared, out, rec);
 }
 
 template <class LightRecorder>
 bool Integrator::prepare_light_sample(const ShadingPoint& at, const LightSample& s, PreparedSample& out,
-                                      LightRecorder& rec) const {
+                                      Ray& shadow, LightRecorder& rec) const {
   const Light& light = scene_.lights[s.light];
   const Vec3 l = normalize(s.to_light);
   const double n_dot_l = dot(at.n, l);
@@ -592,7 +597,6 @@ bool Integrator::prepare_light_sample(const ShadingPoint& at, const LightSample&
   out.l = l;
   out.n_dot_l = n_dot_l;
   out.scale = scale;
-  Ray& shadow = out.shadow;
   shadow.origin = at.above;
   shadow.direction = light.type == LightType::directional ? l : s.to_light + (at.sp.p - at.above);
   shadow.t_min = 0.0;

@@ -166,10 +166,10 @@ class Integrator {
   void add_light_sample(const ShadingPoint& at, const LightSample& sample, ShadeTerms& out, TraceContext& ctx,
                         LightRecorder& rec) const;
   // add_light_sample's two halves around its shadow query: the sample's
-  // shadow ray and scale (false: it cannot light the point), and its diffuse
-  // and specular once the ray is known unblocked.
+  // scale and its shadow ray, into `shadow` (false: it cannot light the
+  // point), and its diffuse and specular once the ray is known unblocked.
   template <class LightRecorder>
-  bool prepare_light_sample(const ShadingPoint& at, const LightSample& sample, PreparedSample& out,
+  bool prepare_light_sample(const ShadingPoint& at, const LightSample& sample, PreparedSample& out, Ray& shadow,
                             LightRecorder& rec) const;
   template <class LightRecorder>
   void add_lit_sample(const ShadingPoint& at, const LightSample& sample, const PreparedSample& prepared,

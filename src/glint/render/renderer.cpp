@@ -175,7 +175,14 @@ void render_first_pass_rows(const PixelContext& pc, const Accelerator& accel, in
     int px[kPacketSize], py[kPacketSize];
     for (int y = y0; y < y1; ++y)
       for (int x = bx; x < bx + columns; ++x) {
-        rays[n] = center_ray(pc, x, y);
+        // Field by field: `rays[n] = center_ray(...)` went through a
+        // temporary on the stack, stored in halves and loaded 64 bytes at
+        // once, which stalls (store forwarding).
+        const Ray ray = center_ray(pc, x, y);
+        rays[n].origin = ray.origin;
+        rays[n].direction = ray.direction;
+        rays[n].t_min = ray.t_min;
+        rays[n].t_max = ray.t_max;
         px[n] = x;
         py[n++] = y;
       }
