@@ -12,6 +12,7 @@
 
 #include "glint/accel/huge_pages.h"
 #include "glint/accel/mesh_bvh.h"
+#include "glint/accel/packet_slots.h"
 #include "glint/accel/packet_traversal.h"
 #include "glint/accel/ray_packets.h"
 #include "glint/accel/triangle_leaf.h"
@@ -297,7 +298,7 @@ class BvhAccelerator final : public Accelerator {
     // Rays bounded by the planes' hits, in the mesh's space (copies only when
     // there are planes or a transform).
     const Ray* object_rays = rays;
-    Ray copies[kPacketSize];
+    PacketSlots<Ray> copies;
     for (int i = 0; i < count; ++i) hits[i].reset();
     if (!planes_.empty() || object.transform != kNoTransform) {
       for (int i = 0; i < count; ++i) {
@@ -312,7 +313,7 @@ class BvhAccelerator final : public Accelerator {
         }
         copies[i] = to_object_space(scene_, object, ray);
       }
-      object_rays = copies;
+      object_rays = copies.data();
     }
     RayPacket packet = make_ray_packet(object_rays, count);
     if (!intersect_mesh_packet(mesh_bvh, packet)) {
@@ -348,11 +349,11 @@ class BvhAccelerator final : public Accelerator {
     // test reaches).
     const Object& object = scene_.objects[single_mesh_];
     const MeshBvh& mesh_bvh = mesh_bvhs_[object.shape];
-    Ray open[kPacketSize];
+    PacketSlots<Ray> open;
     int index[kPacketSize];
-    const int n = rays_past_planes(rays, count, blocked, &object, open, index);
+    const int n = rays_past_planes(rays, count, blocked, &object, open.data(), index);
     if (n == 0) return;
-    RayPacket packet = make_ray_packet(open, n);
+    RayPacket packet = make_ray_packet(open.data(), n);
     if (!intersect_mesh_packet(mesh_bvh, packet)) {
       for (int k = 0; k < n; ++k) blocked[index[k]] = occluded_mesh_bvh(mesh_bvh, open[k]);
       return;
@@ -489,14 +490,14 @@ class BvhAccelerator final : public Accelerator {
   // ray first (they bound t_max), then every leaf a ray's own box test
   // reaches is tested for that ray as intersect() tests it.
   void intersect_objects_packet(const Ray* rays, int count, std::optional<Hit>* hits) const {
-    Ray r[kPacketSize];
+    PacketSlots<Ray> r;
     Hit best[kPacketSize];
     bool found[kPacketSize];
     for (int i = 0; i < count; ++i) {
       r[i] = rays[i];
       found[i] = intersect_planes(r[i], best[i]);
     }
-    RayPacket packet = make_ray_packet(r, count);
+    RayPacket packet = make_ray_packet(r.data(), count);
     for (int i = 0; i < count; ++i) packet.t_max[i] = clamp_to_float(r[i].t_max);  // as traverse_closest_leaves
     const bool traced = traverse_packet_closest(bvh_, packet, [&](uint32_t first, uint32_t n, int mask) {
       int lowered = 0;
@@ -527,11 +528,11 @@ class BvhAccelerator final : public Accelerator {
   // render 0.160 -> 0.155 s without it); it is still set, for rays asked one
   // by one.
   void occluded_objects_packet(const Ray* rays, int count, bool* blocked, uint32_t& cache) const {
-    Ray open[kPacketSize];
+    PacketSlots<Ray> open;
     int index[kPacketSize];
-    const int n = rays_past_planes(rays, count, blocked, nullptr, open, index);
+    const int n = rays_past_planes(rays, count, blocked, nullptr, open.data(), index);
     if (n == 0) return;
-    RayPacket packet = make_ray_packet(open, n);
+    RayPacket packet = make_ray_packet(open.data(), n);
     for (int k = 0; k < n; ++k) packet.t_max[k] = clamp_to_float(open[k].t_max);  // as traverse_any_leaves
     uint32_t blocker = kNone;
     const int result = traverse_packet_any(bvh_, packet, [&](uint32_t first, uint32_t c, int mask) {

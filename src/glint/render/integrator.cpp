@@ -7,6 +7,7 @@
 #include <numbers>
 #include <type_traits>
 
+#include "glint/accel/packet_slots.h"
 #include "glint/geometry/shapes.h"
 #include "glint/render/stratified.h"
 #include "glint/render/texture.h"
@@ -443,21 +444,6 @@ struct SecondaryRays {
   bool reflects = false, refracts = false;
 };
 
-namespace {
-
-// A packet's per-ray values, left unconstructed until each is set (with
-// `new (&slots[i]) T(...)`): the state of 16 rays is kilobytes, and zeroing
-// it for every packet was 5% of a render.
-template <class T>
-union PacketSlots {
-  static_assert(std::is_trivially_destructible_v<T>);
-  PacketSlots() {}
-  T& operator[](int i) { return values[i]; }
-  T values[kPacketSize];
-};
-
-}  // namespace
-
 void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* hits, int count, TraceContext& ctx,
                                    Color* colors) const {
   // shade() for each ray, light by light across the rays: the same terms
@@ -470,10 +456,11 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
   }
   NoRecorder rec;
   PacketSlots<ShadingPoint> at;  // set for the rays that hit
-  ShadeTerms out[kPacketSize];
+  PacketSlots<ShadeTerms> out;    // set for the rays that hit
   bool shaded[kPacketSize] = {};
   for (int i = 0; i < count; ++i) {
     if (!hits[i]) continue;
+    new (&out[i]) ShadeTerms;
     ctx.stats.camera_hits++;
     new (&at[i]) ShadingPoint(shading_point(scene_, rays[i], *hits[i], epsilon_));
     if (scene_.materials[at[i].sp.material].unlit) {
@@ -484,14 +471,15 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
   }
   for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
     const Light& light = scene_.lights[li];
-    ShadeTerms terms[kPacketSize];
+    PacketSlots<ShadeTerms> terms;  // set for the shaded points
     PacketSlots<LightSample> sample;
     PacketSlots<PreparedSample> prepared;  // set by prepare_light_sample, field by field
-    Ray shadow[kPacketSize];
+    PacketSlots<Ray> shadow;
     int pixel[kPacketSize];
     int asked = 0;
     for (int i = 0; i < count; ++i) {
       if (!shaded[i]) continue;
+      new (&terms[i]) ShadeTerms;
       terms[i].ambient = at[i].sp.reflectance.ambient * light.ambient;
       if (light.type == LightType::ambient) continue;
       new (&sample[i]) LightSample(single_light_sample(light, li, at[i]));
@@ -506,7 +494,7 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
     if (asked > 0) {
       bool blocked[kPacketSize];
       uint32_t no_cache = kNoShadowBlocker;
-      accel_.occluded_packet(shadow, asked, blocked, li < ctx.shadow_cache.size() ? ctx.shadow_cache[li] : no_cache);
+      accel_.occluded_packet(shadow.data(), asked, blocked, li < ctx.shadow_cache.size() ? ctx.shadow_cache[li] : no_cache);
       for (int k = 0; k < asked; ++k)
         if (!blocked[k]) add_lit_sample(at[pixel[k]], sample[pixel[k]], prepared[pixel[k]], terms[pixel[k]], rec);
     }
@@ -521,7 +509,7 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
   // packet (off a mirror floor they are as coherent as the camera rays);
   // refracted rays one by one.
   PacketSlots<SecondaryRays> secondary;
-  Ray reflected[kPacketSize];
+  PacketSlots<Ray> reflected;
   int reflecting[kPacketSize];
   int n = 0;
   for (int i = 0; i < count; ++i)
@@ -534,8 +522,8 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
       reflected[n] = secondary[i].reflected;
       reflecting[n++] = i;
     }
-  std::optional<Hit> reflected_hits[kPacketSize];
-  if (n > 0) accel_.intersect_packet(reflected, n, reflected_hits);
+  PacketHits reflected_hits(n);
+  if (n > 0) accel_.intersect_packet(reflected.data(), n, reflected_hits.data());
   for (int k = 0; k < n; ++k) {
     const SecondaryRays& s = secondary[reflecting[k]];
     ctx.stats.reflection++;

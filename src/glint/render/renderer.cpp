@@ -11,6 +11,7 @@
 #include <optional>
 #include <thread>
 
+#include "glint/accel/packet_slots.h"
 #include "glint/render/camera.h"
 #include "glint/render/filter.h"
 #include "glint/render/stratified.h"
@@ -171,7 +172,7 @@ void render_first_pass_rows(const PixelContext& pc, const Accelerator& accel, in
   for (int bx = x0; bx < x1; bx += kColumns) {
     const int columns = std::min(kColumns, x1 - bx);
     int n = 0;
-    Ray rays[kPacketSize];
+    PacketSlots<Ray> rays;
     int px[kPacketSize], py[kPacketSize];
     for (int y = y0; y < y1; ++y)
       for (int x = bx; x < bx + columns; ++x) {
@@ -186,13 +187,13 @@ void render_first_pass_rows(const PixelContext& pc, const Accelerator& accel, in
         px[n] = x;
         py[n++] = y;
       }
-    std::optional<Hit> hits[kPacketSize];
-    accel.intersect_packet(rays, n, hits);
+    PacketHits hits(n);
+    accel.intersect_packet(rays.data(), n, hits.data());
     if ((!passes || passes->empty()) && pc.integrator.shades_packets()) {
       // Shaded together (their shadow rays as packets); each pixel stored
       // as render_pixel_with stores it: the one sample's sum, divided by 1.
-      Color colors[kPacketSize];
-      pc.integrator.cast_camera_packet(rays, hits, n, ctx, colors);
+      PacketSlots<Color> colors;  // each set by cast_camera_packet
+      pc.integrator.cast_camera_packet(rays.data(), hits.data(), n, ctx, colors.data());
       for (int i = 0; i < n; ++i) {
         ctx.stats.camera++;
         PixelSums sums;
