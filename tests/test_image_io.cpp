@@ -749,6 +749,30 @@ TEST_F(ImageIo, ExposureAndToneMapChangeOnlyEightBitOutputs) {
   EXPECT_EQ(glint::read_image(dir_ / "x.pfm").rgb, image.rgb);
 }
 
+TEST_F(ImageIo, BigPngHasTheCodesOfPpm) {
+  // Big enough (over 2^18 values) that a helper thread makes the PNG's rows
+  // in bands while libpng compresses, with a last band of fewer rows: the
+  // codes must be those of the PPM, made in one pass.
+  Image image(401, 299);
+  for (std::size_t i = 0; i < image.rgb.size(); ++i)
+    image.rgb[i] = i % 97 == 0 ? std::numeric_limits<float>::quiet_NaN()
+                               : 1.5f * std::sin(0.37f * static_cast<float>(i)) + 0.25f;  // negatives, > 1
+  ASSERT_GE(image.rgb.size(), std::size_t{1} << 18);
+  glint::WriteOptions aces;
+  aces.tonemap = glint::ToneMap::aces;
+  aces.exposure = 0.5;
+  glint::WriteOptions data;
+  data.data = true;
+  for (const glint::WriteOptions& options : {glint::WriteOptions{}, aces, data}) {
+    glint::write_image(image, dir_ / "big.png", options);
+    glint::write_image(image, dir_ / "big.ppm", options);
+    const Image png = glint::read_image(dir_ / "big.png"), ppm = glint::read_image(dir_ / "big.ppm");
+    ASSERT_EQ(png.width, image.width);
+    ASSERT_EQ(png.height, image.height);
+    EXPECT_EQ(png.rgb, ppm.rgb);
+  }
+}
+
 TEST_F(ImageIo, DataEncodingSkipsTheSrgbCurve) {
   Image image(2, 1);
   image.rgb = {0.0f, 0.5f, 1.0f, 0.2f, -1.0f, 7.0f};

@@ -74,8 +74,7 @@ std::string unsupported_extension_reason(const fs::path& path) {
 // --- encoders ---------------------------------------------------------------
 
 // Runs body(begin, end) over [0, n) in one piece per core. The 8-bit codes
-// of a 1080p image are 6.2M table lookups, 10-20 ms on one core: a fifth of
-// writing a PNG, which is most of a small scene's fixed cost.
+// of a 1080p image are 6.2M table lookups, 10-20 ms on one core.
 template <class Body>
 void for_each_range(size_t n, const Body& body) {
   const size_t threads = n < (size_t{1} << 18) ? 1 : std::max(1u, std::thread::hardware_concurrency());
@@ -85,33 +84,69 @@ void for_each_range(size_t n, const Body& body) {
   body(0, n / threads);
 }
 
-// The 8-bit codes of an image: sRGB-encoded light, or data scaled by 255.
-Bytes pixels8(const Image& image, const WriteOptions& options) {
-  Bytes out(image.rgb.size());
+// The 8-bit codes of values [begin, end) of an image into out[begin, end):
+// sRGB-encoded light, or data scaled by 255.
+void encode8(const Image& image, const WriteOptions& options, std::uint8_t* out, size_t begin, size_t end) {
   const float* in = image.rgb.data();
   if (!options.data && (options.exposure != 0.0 || options.tonemap != ToneMap::clamp)) {
     const float scale = static_cast<float>(std::exp2(options.exposure));
     const Srgb8Table& table = srgb8_table();
-    for_each_range(out.size(), [&](size_t begin, size_t end) {
-      for (size_t i = begin; i < end; ++i) out[i] = srgb8_with(table, tone_map(in[i] * scale, options.tonemap));
-    });
-    return out;
-  }
-  if (options.data) {
-    for_each_range(out.size(), [&](size_t begin, size_t end) {
-      for (size_t i = begin; i < end; ++i) {
-        const float v = in[i];
-        out[i] = !(v > 0.0f) ? 0 : v >= 1.0f ? 255 : static_cast<std::uint8_t>(std::lround(v * 255.0f));
-      }
-    });
-    return out;
-  }
-  const Srgb8Table& table = srgb8_table();
-  for_each_range(out.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) out[i] = srgb8_with(table, tone_map(in[i] * scale, options.tonemap));
+  } else if (options.data) {
+    for (size_t i = begin; i < end; ++i) {
+      const float v = in[i];
+      out[i] = !(v > 0.0f) ? 0 : v >= 1.0f ? 255 : static_cast<std::uint8_t>(std::lround(v * 255.0f));
+    }
+  } else {
+    const Srgb8Table& table = srgb8_table();
     for (size_t i = begin; i < end; ++i) out[i] = srgb8_with(table, in[i]);
-  });
+  }
+}
+
+// The 8-bit codes of an image, on every core.
+Bytes pixels8(const Image& image, const WriteOptions& options) {
+  Bytes out(image.rgb.size());
+  for_each_range(out.size(), [&](size_t begin, size_t end) { encode8(image, options, out.data(), begin, end); });
   return out;
 }
+
+// The 8-bit rows of an image for the PNG encoder, made by a helper thread a
+// band at a time while libpng compresses the bands before: each of the two
+// is about half of writing a big PNG, so they overlap instead of adding up.
+// Small images are encoded at once.
+class PngRows {
+ public:
+  PngRows(const Image& image, const WriteOptions& options)
+      : stride_(3 * static_cast<size_t>(image.width)), codes_(new std::uint8_t[image.rgb.size()]) {
+    if (image.rgb.size() < (size_t{1} << 18)) {
+      encode8(image, options, codes_.get(), 0, image.rgb.size());
+      ready_ = image.height;
+      return;
+    }
+    srgb8_table();  // built here: the helper thread must not throw
+    converter_ = std::jthread([this, &image, &options] {
+      constexpr int kBandRows = 16;
+      for (int y0 = 0; y0 < image.height; y0 += kBandRows) {
+        const int y1 = std::min(image.height, y0 + kBandRows);
+        encode8(image, options, codes_.get(), stride_ * static_cast<size_t>(y0), stride_ * static_cast<size_t>(y1));
+        ready_.store(y1, std::memory_order_release);
+        ready_.notify_all();
+      }
+    });
+  }
+  // Row y, once the helper has made it.
+  const std::uint8_t* row(int y) {
+    for (int ready = ready_.load(std::memory_order_acquire); ready <= y; ready = ready_.load(std::memory_order_acquire))
+      ready_.wait(ready, std::memory_order_acquire);
+    return codes_.get() + stride_ * static_cast<size_t>(y);
+  }
+
+ private:
+  size_t stride_;
+  std::unique_ptr<std::uint8_t[]> codes_;  // left uninitialized: the helper's writes are the first touch
+  std::atomic<int> ready_{0};              // rows made so far
+  std::jthread converter_;                 // last: joined before the rows are freed
+};
 
 void append(Bytes& out, std::string_view text) { out.insert(out.end(), text.begin(), text.end()); }
 
@@ -194,9 +229,9 @@ void png_ignore_warning(png_structp, png_const_charp) {}
 // render's PNG is written for speed, not size (stb_image_write was several
 // times slower; docs/performance.md).
 Bytes encode_png(const Image& image, const WriteOptions& options) {
-  const Bytes pixels = pixels8(image, options);
+  PngRows rows(image, options);  // before setjmp: a longjmp skips no destructor of it
   PngSink sink;
-  sink.bytes.reserve(pixels.size() / 4);
+  sink.bytes.reserve(image.rgb.size() / 4);
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, png_fail, png_ignore_warning);
   if (!png) throw std::bad_alloc();
   png_infop info = png_create_info_struct(png);
@@ -215,9 +250,7 @@ Bytes encode_png(const Image& image, const WriteOptions& options) {
   png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
                PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
-  const size_t stride = 3 * static_cast<size_t>(image.width);
-  for (int y = 0; y < image.height; ++y)
-    png_write_row(png, const_cast<png_bytep>(pixels.data() + stride * static_cast<size_t>(y)));
+  for (int y = 0; y < image.height; ++y) png_write_row(png, const_cast<png_bytep>(rows.row(y)));
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   if (sink.failed) throw std::bad_alloc();
