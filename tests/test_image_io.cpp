@@ -750,9 +750,11 @@ TEST_F(ImageIo, ExposureAndToneMapChangeOnlyEightBitOutputs) {
 }
 
 TEST_F(ImageIo, BigPngHasTheCodesOfPpm) {
-  // Big enough (over 2^18 values) that a helper thread makes the PNG's rows
-  // in bands while libpng compresses, with a last band of fewer rows: the
-  // codes must be those of the PPM, made in one pass.
+  // Big enough (over 2^18 values, kCodesForThreads in image_file.cpp) that a
+  // helper thread makes the PNG's rows in bands while libpng compresses, with
+  // a last band of fewer rows: the codes must be those of the PPM, made in
+  // one pass. (A row read before it is made shows only when libpng overtakes
+  // the helper, which it did when the wait was taken out.)
   Image image(401, 299);
   for (std::size_t i = 0; i < image.rgb.size(); ++i)
     image.rgb[i] = i % 97 == 0 ? std::numeric_limits<float>::quiet_NaN()

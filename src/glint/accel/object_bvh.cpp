@@ -289,6 +289,7 @@ class BvhAccelerator final : public Accelerator {
   }
 
   void intersect_packet(const Ray* rays, int count, std::optional<Hit>* hits) const override {
+    if (count <= 0) return;  // make_ray_packet reads rays[0]
     if (count > kPacketSize) return Accelerator::intersect_packet(rays, count, hits);
     if (single_mesh_ == kNone) return intersect_objects_packet(rays, count, hits);
     // The steps of intersect() ray by ray, with the mesh traced as a packet:

@@ -4,34 +4,56 @@
 // camera packet, 4-5% of a render's samples in memset.
 #pragma once
 
+#include <cstddef>
+#include <cstring>
 #include <new>
 #include <optional>
 #include <type_traits>
 
 #include "glint/accel/accelerator.h"
 
+// Filled with 0xff bytes where assertions or AddressSanitizer are on (the
+// test suite's sanitizer build among them).
+#if !defined(NDEBUG) || defined(__SANITIZE_ADDRESS__)
+#define GLINT_FILL_PACKET_SLOTS 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define GLINT_FILL_PACKET_SLOTS 1
+#endif
+#endif
+
 namespace glint {
 
-// Slot i is set by assigning to it (T implicit-lifetime: rays, colors) or by
-// `new (&slots[i]) T(...)`; only slots that were set may be read.
+// Raw storage for kPacketSize values of T. Slot i is set by assigning to it
+// or to its fields (T implicit-lifetime: rays, colors, whose objects the
+// byte array creates implicitly) or by `new (&slots[i]) T(...)`; only slots
+// that were set may be read. Checking builds (GLINT_FILL_PACKET_SLOTS) fill
+// the storage with 0xff bytes (NaN doubles), so a slot read before it is set
+// shows in the tests that compare packets with single rays bit for bit.
 template <class T>
-struct PacketSlots {
+class PacketSlots {
   static_assert(std::is_trivially_destructible_v<T>);
-  PacketSlots() {}  // leaves `values` unconstructed
-  T& operator[](int i) { return values[i]; }
-  const T& operator[](int i) const { return values[i]; }
-  T* data() { return values; }
-  const T* data() const { return values; }
-  union {
-    T values[kPacketSize];
-  };
+
+ public:
+  PacketSlots() {
+#ifdef GLINT_FILL_PACKET_SLOTS
+    std::memset(storage_, 0xff, sizeof storage_);
+#endif
+  }
+  T& operator[](int i) { return data()[i]; }
+  const T& operator[](int i) const { return data()[i]; }
+  T* data() { return std::launder(reinterpret_cast<T*>(storage_)); }
+  const T* data() const { return std::launder(reinterpret_cast<const T*>(storage_)); }
+
+ private:
+  alignas(T) std::byte storage_[kPacketSize * sizeof(T)];
 };
 
 // Hits for intersect_packet: the first `count` empty (their flags set, the
 // Hits themselves left unwritten).
 struct PacketHits : PacketSlots<std::optional<Hit>> {
   explicit PacketHits(int count) {
-    for (int i = 0; i < count; ++i) new (&values[i]) std::optional<Hit>;
+    for (int i = 0; i < count; ++i) new (&(*this)[i]) std::optional<Hit>;
   }
 };
 

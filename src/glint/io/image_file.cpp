@@ -73,11 +73,14 @@ std::string unsupported_extension_reason(const fs::path& path) {
 
 // --- encoders ---------------------------------------------------------------
 
+// Fewer 8-bit codes than this are made on the calling thread alone.
+constexpr size_t kCodesForThreads = size_t{1} << 18;
+
 // Runs body(begin, end) over [0, n) in one piece per core. The 8-bit codes
 // of a 1080p image are 6.2M table lookups, 10-20 ms on one core.
 template <class Body>
 void for_each_range(size_t n, const Body& body) {
-  const size_t threads = n < (size_t{1} << 18) ? 1 : std::max(1u, std::thread::hardware_concurrency());
+  const size_t threads = n < kCodesForThreads ? 1 : std::max(1u, std::thread::hardware_concurrency());
   std::vector<std::jthread> pool;
   for (size_t t = 1; t < threads; ++t)
     pool.emplace_back([&body, n, t, threads] { body(n * t / threads, n * (t + 1) / threads); });
@@ -118,7 +121,7 @@ class PngRows {
  public:
   PngRows(const Image& image, const WriteOptions& options)
       : stride_(3 * static_cast<size_t>(image.width)), codes_(new std::uint8_t[image.rgb.size()]) {
-    if (image.rgb.size() < (size_t{1} << 18)) {
+    if (image.rgb.size() < kCodesForThreads) {
       encode8(image, options, codes_.get(), 0, image.rgb.size());
       ready_ = image.height;
       return;
@@ -143,7 +146,7 @@ class PngRows {
 
  private:
   size_t stride_;
-  std::unique_ptr<std::uint8_t[]> codes_;  // left uninitialized: the helper's writes are the first touch
+  std::unique_ptr<std::uint8_t[]> codes_;  // not zeroed: each row is written once, by whoever makes it
   std::atomic<int> ready_{0};              // rows made so far
   std::jthread converter_;                 // last: joined before the rows are freed
 };

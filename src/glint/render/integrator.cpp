@@ -473,7 +473,7 @@ void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* h
     const Light& light = scene_.lights[li];
     PacketSlots<ShadeTerms> terms;  // set for the shaded points
     PacketSlots<LightSample> sample;
-    PacketSlots<PreparedSample> prepared;  // set by prepare_light_sample, field by field
+    PacketSlots<PreparedSample> prepared;  // constructed, then filled by prepare_light_sample
     PacketSlots<Ray> shadow;
     int pixel[kPacketSize];
     int asked = 0;
