@@ -75,7 +75,7 @@ bool intersect_mesh(const Mesh& mesh, const MeshBvh* bvh, uint32_t index, const 
     // Both copies of the vertices from the leaf block (in cache, and written
     // long ago: read back from `hit` they would wait on the stores).
     const Triangle4& block = bvh->blocks[slot / 4];
-    const TriangleHit h = triangle_plane_hit(block_triangle(block, static_cast<int>(slot % 4)), object_ray);
+    const TriangleHit h = triangle_plane_hit(BlockTriangle{block, static_cast<int>(slot % 4)}, object_ray);
     hit.vertices = block_vertices(block, static_cast<int>(slot % 4));
     // The double crossing of a float hit can fall just outside the interval
     // (grazing rays, hits at t_min): the float distance stands then.
@@ -331,7 +331,7 @@ class BvhAccelerator final : public Accelerator {
       Hit& hit = hits[i].emplace();
       const Triangle4& block = mesh_bvh.blocks[packet.slot[i] / 4];
       const int lane = static_cast<int>(packet.slot[i] % 4);
-      const TriangleHit h = triangle_plane_hit(block_triangle(block, lane), r);
+      const TriangleHit h = triangle_plane_hit(BlockTriangle{block, lane}, r);
       hit.vertices = block_vertices(block, lane);
       const double t = h.t > r.t_min && h.t < r.t_max ? h.t : static_cast<double>(packet.t_max[i]);
       set_hit(hit, t, single_mesh_, h.b1, h.b2, 0, packet.triangle[i]);

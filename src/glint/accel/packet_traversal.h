@@ -62,6 +62,16 @@ inline I16 load16(const uint32_t* p) { return {_mm512_load_si512(p)}; }
 inline void store16(uint32_t* p, I16 a) { _mm512_store_si512(p, a.v); }
 inline float max_lane(F16 a) { return _mm512_reduce_max_ps(a.v); }
 inline float min_lane(F16 a) { return _mm512_reduce_min_ps(a.v); }
+// Lanes 0-3 from q0, 4-7 from q1, and so on.
+inline F16 from_quads(__m128 q0, __m128 q1, __m128 q2, __m128 q3) {
+  const __m512 low = _mm512_insertf32x4(_mm512_castps128_ps512(q0), q1, 1);
+  return {_mm512_insertf32x4(_mm512_insertf32x4(low, q2, 2), q3, 3)};
+}
+// The float one step nearer zero than `a` in each lane of `m`.
+inline F16 step_toward_zero16(M16 m, F16 a) {
+  return {_mm512_castsi512_ps(
+      _mm512_mask_sub_epi32(_mm512_castps_si512(a.v), m, _mm512_castps_si512(a.v), _mm512_set1_epi32(1)))};
+}
 #else
 struct F16 {
   __m256 lo, hi;
@@ -130,6 +140,16 @@ inline float min_lane(F16 a) {
   alignas(32) float v[8];
   _mm256_store_ps(v, _mm256_min_ps(a.lo, a.hi));
   return *std::min_element(v, v + 8);
+}
+inline F16 from_quads(__m128 q0, __m128 q1, __m128 q2, __m128 q3) {
+  return {_mm256_set_m128(q1, q0), _mm256_set_m128(q3, q2)};
+}
+inline F16 step_toward_zero16(M16 m, F16 a) {
+  // All-ones lanes are -1 as integers: adding the mask subtracts one there.
+  auto half = [](__m256 mask, __m256 x) {
+    return _mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(x), _mm256_castps_si256(mask)));
+  };
+  return {half(m.lo, a.lo), half(m.hi, a.hi)};
 }
 #endif
 

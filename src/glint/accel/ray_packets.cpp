@@ -2,10 +2,80 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "glint/accel/packet_traversal.h"
 
 namespace glint {
+
+#if defined(__AVX2__)
+
+namespace {
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Ray) == 8 * sizeof(double) &&
+                  offsetof(Ray, direction) == 3 * sizeof(double) && offsetof(Ray, t_max) == 7 * sizeof(double),
+              "a Ray is eight doubles: origin, direction, t_min, t_max");
+
+// Four rays' eight doubles (origin, direction, t_min, t_max) in float,
+// transposed: fields[f] holds field f of the four rays. A t_max >= 3e38
+// becomes infinity first, as clamp_to_float makes it.
+void four_rays_in_float(const Ray* const (&rays)[4], __m128 (&fields)[8]) {
+  const __m256d t_max_lane = _mm256_castsi256_pd(_mm256_setr_epi64x(0, 0, 0, -1));
+  __m128 head[4], tail[4];
+  for (int k = 0; k < 4; ++k) {
+    const double* d = reinterpret_cast<const double*>(rays[k]);
+    head[k] = _mm256_cvtpd_ps(_mm256_loadu_pd(d));
+    const __m256d rest = _mm256_loadu_pd(d + 4);
+    const __m256d huge = _mm256_and_pd(_mm256_cmp_pd(rest, _mm256_set1_pd(3.0e38), _CMP_GE_OQ), t_max_lane);
+    tail[k] = _mm256_cvtpd_ps(_mm256_blendv_pd(rest, _mm256_set1_pd(INFINITY), huge));
+  }
+  _MM_TRANSPOSE4_PS(head[0], head[1], head[2], head[3]);
+  _MM_TRANSPOSE4_PS(tail[0], tail[1], tail[2], tail[3]);
+  for (int k = 0; k < 4; ++k) {
+    fields[k] = head[k];
+    fields[4 + k] = tail[k];
+  }
+}
+
+}  // namespace
+
+// The scalar version below, in registers: its lanes were stored one float at
+// a time and then read back 64 bytes at once (by the inverse and the
+// kernel), a load that has to wait for all sixteen stores to retire.
+RayPacket make_ray_packet(const Ray* rays, int count) {
+  using namespace simd16;
+  RayPacket p;
+  p.count = count;
+  __m128 fields[4][8];  // [four rays][field]
+  for (int g = 0; g < 4; ++g) {
+    const Ray* four[4];
+    for (int k = 0; k < 4; ++k) four[k] = &rays[4 * g + k < count ? 4 * g + k : 0];  // unused lanes repeat ray 0
+    four_rays_in_float(four, fields[g]);
+  }
+  const auto field = [&fields](int f) { return from_quads(fields[0][f], fields[1][f], fields[2][f], fields[3][f]); };
+  const F16 limit = splat16(kSlabInverseLimit), minus_limit = splat16(-kSlabInverseLimit);
+  for (int a = 0; a < 3; ++a) {
+    store16(p.origin[a], field(a));
+    const F16 direction = field(3 + a);
+    store16(p.direction[a], direction);
+    // std::clamp(1.0f / direction, -limit, limit), lane by lane.
+    const F16 inv = splat16(1.0f) / direction;
+    F16 clamped = select16(compare16<_CMP_LT_OQ>(inv, minus_limit), minus_limit, inv);
+    clamped = select16(compare16<_CMP_LT_OQ>(limit, inv), limit, clamped);
+    store16(p.inv_direction[a], clamped);
+  }
+  store16(p.t_min, field(6));
+  // float_toward_zero: every lane but zeros and NaNs one step down; unused
+  // lanes look nowhere.
+  const F16 t_max = field(7);
+  const F16 inclusive = step_toward_zero16(compare16<_CMP_NEQ_OQ>(t_max, splat16(0.0f)), t_max);
+  const int used = count >= kPacketSize ? (1 << kPacketSize) - 1 : (1 << count) - 1;
+  store16(p.t_max, select16(mask16(used), inclusive, splat16(-INFINITY)));
+  store16(p.triangle, splat16i(kNoTriangle));
+  return p;
+}
+
+#else
 
 RayPacket make_ray_packet(const Ray* rays, int count) {
   RayPacket p;
@@ -32,6 +102,8 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
       p.inv_direction[a][i] = std::clamp(1.0f / p.direction[a][i], -kSlabInverseLimit, kSlabInverseLimit);
   return p;
 }
+
+#endif
 
 #if defined(__AVX2__)
 

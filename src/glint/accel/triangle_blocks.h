@@ -28,10 +28,14 @@ inline TriangleVertices block_vertices(const Triangle4& b, int lane) {
           Vec3f{b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]},
           Vec3f{b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane]}};
 }
-inline Triangle block_triangle(const Triangle4& b, int lane) {
-  return {Vec3(b.v[0][0][lane], b.v[0][1][lane], b.v[0][2][lane]),
-          Vec3(b.v[1][0][lane], b.v[1][1][lane], b.v[1][2][lane]),
-          Vec3(b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane])};
+// Lane `lane` of a block as the double refinement reads it
+// (triangle_plane_hit): each vertex loaded from the block where it is used.
+struct BlockTriangle {
+  const Triangle4& block;
+  int lane;
+};
+inline Vec3 corner(const BlockTriangle& t, int i) {
+  return Vec3(t.block.v[i][0][t.lane], t.block.v[i][1][t.lane], t.block.v[i][2][t.lane]);
 }
 
 // The ray in the watertight test's frame: axis kz is where the direction is

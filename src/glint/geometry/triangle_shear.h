@@ -15,6 +15,8 @@ struct TriangleHit {
   double t, b1, b2;
 };  // barycentrics of v1 and v2
 
+inline const Vec3& corner(const Triangle& tri, int i) { return i == 0 ? tri.v0 : (i == 1 ? tri.v1 : tri.v2); }
+
 namespace watertight {
 
 // The watertight ray/triangle test of Woop, Benthin and Wald (JCGT 2013):
@@ -44,14 +46,19 @@ struct ShearAxes {
   static constexpr double component(const Vec3& v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 };
 
-template <int kz>
-inline ShearedTriangle shear_triangle_in(const Triangle& tri, const Ray& ray) {
+// `Corners` is a Triangle or anything else with a `corner(tri, i)` (found by
+// argument-dependent lookup) giving vertex i as a Vec3: the mesh kernels
+// read a float hit's vertices in place from their leaf block, since a
+// Triangle built from them on the stack and read back wider than it was
+// written stalls the load (a failed store-to-load forwarding).
+template <int kz, class Corners>
+[[gnu::always_inline]] inline ShearedTriangle shear_triangle_in(const Corners& tri, const Ray& ray) {
   using A = ShearAxes<kz>;
   const Vec3& d = ray.direction;
   // One division: the shear must be the same for every triangle a ray
   // meets (that is what closes the cracks), not correctly rounded.
   const double sz = 1.0 / A::z(d), sx = -A::x(d) * sz, sy = -A::y(d) * sz;
-  const Vec3 a = tri.v0 - ray.origin, b = tri.v1 - ray.origin, c = tri.v2 - ray.origin;
+  const Vec3 a = corner(tri, 0) - ray.origin, b = corner(tri, 1) - ray.origin, c = corner(tri, 2) - ray.origin;
   const double ax2 = A::x(a) + sx * A::z(a), ay2 = A::y(a) + sy * A::z(a);
   const double bx2 = A::x(b) + sx * A::z(b), by2 = A::y(b) + sy * A::z(b);
   const double cx2 = A::x(c) + sx * A::z(c), cy2 = A::y(c) + sy * A::z(c);
@@ -70,7 +77,8 @@ inline ShearedTriangle shear_triangle_in(const Triangle& tri, const Ray& ray) {
   return s;
 }
 
-inline ShearedTriangle shear_triangle(const Triangle& tri, const Ray& ray) {
+template <class Corners>
+[[gnu::always_inline]] inline ShearedTriangle shear_triangle(const Corners& tri, const Ray& ray) {
   const Vec3& d = ray.direction;
   const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
   if (ax > ay) return ax > az ? shear_triangle_in<0>(tri, ray) : shear_triangle_in<2>(tri, ray);
@@ -81,7 +89,8 @@ inline ShearedTriangle shear_triangle(const Triangle& tri, const Ray& ray) {
 
 // The ray's crossing of the triangle's plane with its barycentrics, inside
 // the triangle or not (t = infinity when the ray runs in the plane).
-inline TriangleHit triangle_plane_hit(const Triangle& tri, const Ray& ray) {
+template <class Corners>
+[[gnu::always_inline]] inline TriangleHit triangle_plane_hit(const Corners& tri, const Ray& ray) {
   const watertight::ShearedTriangle s = watertight::shear_triangle(tri, ray);
   if (s.det == 0.0 || !std::isfinite(s.det)) return TriangleHit{kInfinity, 0, 0};
   const double inv_det = 1.0 / s.det;
