@@ -498,8 +498,7 @@ class BvhAccelerator final : public Accelerator {
       r[i] = rays[i];
       found[i] = intersect_planes(r[i], best[i]);
     }
-    RayPacket packet = make_ray_packet(r.data(), count);
-    for (int i = 0; i < count; ++i) packet.t_max[i] = clamp_to_float(r[i].t_max);  // as traverse_closest_leaves
+    RayPacket packet = make_ray_packet(r.data(), count, PacketTMax::as_is);  // as traverse_closest_leaves
     const bool traced = traverse_packet_closest(bvh_, packet, [&](uint32_t first, uint32_t n, int mask) {
       int lowered = 0;
       for (; mask; mask &= mask - 1) {
@@ -533,8 +532,7 @@ class BvhAccelerator final : public Accelerator {
     int index[kPacketSize];
     const int n = rays_past_planes(rays, count, blocked, nullptr, open.data(), index);
     if (n == 0) return;
-    RayPacket packet = make_ray_packet(open.data(), n);
-    for (int k = 0; k < n; ++k) packet.t_max[k] = clamp_to_float(open[k].t_max);  // as traverse_any_leaves
+    RayPacket packet = make_ray_packet(open.data(), n, PacketTMax::as_is);  // as traverse_any_leaves
     uint32_t blocker = kNone;
     const int result = traverse_packet_any(bvh_, packet, [&](uint32_t first, uint32_t c, int mask) {
       int now_blocked = 0;

@@ -42,7 +42,7 @@ void four_rays_in_float(const Ray* const (&rays)[4], __m128 (&fields)[8]) {
 // The scalar version below, in registers: its lanes were stored one float at
 // a time and then read back 64 bytes at once (by the inverse and the
 // kernel), a load that has to wait for all sixteen stores to retire.
-RayPacket make_ray_packet(const Ray* rays, int count) {
+RayPacket make_ray_packet(const Ray* rays, int count, PacketTMax t_max_mode) {
   using namespace simd16;
   RayPacket p;
   p.count = count;
@@ -67,17 +67,18 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
   store16(p.t_min, field(6));
   // float_toward_zero: every lane but zeros and NaNs one step down; unused
   // lanes look nowhere.
-  const F16 t_max = field(7);
-  const F16 inclusive = step_toward_zero16(compare16<_CMP_NEQ_OQ>(t_max, splat16(0.0f)), t_max);
+  F16 t_max = field(7);
+  if (t_max_mode == PacketTMax::inclusive)
+    t_max = step_toward_zero16(compare16<_CMP_NEQ_OQ>(t_max, splat16(0.0f)), t_max);
   const int used = count >= kPacketSize ? (1 << kPacketSize) - 1 : (1 << count) - 1;
-  store16(p.t_max, select16(mask16(used), inclusive, splat16(-INFINITY)));
+  store16(p.t_max, select16(mask16(used), t_max, splat16(-INFINITY)));
   store16(p.triangle, splat16i(kNoTriangle));
   return p;
 }
 
 #else
 
-RayPacket make_ray_packet(const Ray* rays, int count) {
+RayPacket make_ray_packet(const Ray* rays, int count, PacketTMax t_max_mode) {
   RayPacket p;
   p.count = count;
   for (int i = 0; i < kPacketSize; ++i) {
@@ -91,7 +92,8 @@ RayPacket make_ray_packet(const Ray* rays, int count) {
     p.t_min[i] = static_cast<float>(r.t_min);
     // Inclusive, as intersect_mesh_bvh. Unused lanes look nowhere, so the
     // packet's farthest distance (which culls nodes) is that of its rays.
-    p.t_max[i] = i < count ? float_toward_zero(clamp_to_float(r.t_max)) : -INFINITY;
+    const float t_max = clamp_to_float(r.t_max);
+    p.t_max[i] = i >= count ? -INFINITY : (t_max_mode == PacketTMax::inclusive ? float_toward_zero(t_max) : t_max);
     p.triangle[i] = kNoTriangle;
   }
   // In float, a row at a time (vectorized): the box tests only need the
