@@ -250,6 +250,58 @@ TEST(MeshBvh, SameClosestHitsAsBruteForceOnRandomRays) {
   EXPECT_EQ(mismatches, 0);
 }
 
+// A scene of one mesh takes the accelerator's shortcut (the mesh's own tree,
+// no top level): with a transform, rays go to the mesh's space first. The
+// same hits as brute force, single rays and packets, on a rotated, scaled
+// and moved soup.
+TEST(MeshBvh, OneTransformedMeshMatchesBruteForce) {
+  Rng rng(7);
+  Mesh soup;
+  soup.file = "soup";
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 c(rng.next_double() * 4 - 2, rng.next_double() * 4 - 2, rng.next_double() * 4 - 2);
+    for (int k = 0; k < 3; ++k) {
+      soup.positions.push_back(Vec3f{static_cast<float>(c.x + 0.4 * (rng.next_double() - 0.5)),
+                                     static_cast<float>(c.y + 0.4 * (rng.next_double() - 0.5)),
+                                     static_cast<float>(c.z + 0.4 * (rng.next_double() - 0.5))});
+      soup.indices.push_back(static_cast<uint32_t>(soup.positions.size() - 1));
+    }
+  }
+  soup.triangle_material.assign(soup.triangle_count(), 0);
+  Scene scene;
+  const Transform moved =
+      compose(Transform::translate({1, -2, 0.5}),
+              compose(Transform::rotate(normalize(Vec3(1, 2, 3)), 40.0), Transform::scale({2, 0.5, 1.5})));
+  add_mesh_object(scene, add_mesh(scene, std::move(soup)), 0, true, moved);
+  const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
+  const auto brute = build_brute_force(scene);
+  int hits = 0, mismatches = 0;
+  for (int i = 0; i < 4000; i += kPacketSize) {
+    // A packet of rays from one point toward neighbouring directions.
+    const Vec3 o(rng.next_double() * 16 - 8, rng.next_double() * 16 - 8, 10);
+    const Vec3 toward = Vec3(1, -2, 0.5) - o;
+    Ray rays[kPacketSize];
+    for (int k = 0; k < kPacketSize; ++k)
+      rays[k] = make_ray(o, toward + Vec3(rng.next_double() * 4 - 2, rng.next_double() * 4 - 2, 0));
+    std::optional<Hit> packet[kPacketSize];
+    bvh->intersect_packet(rays, kPacketSize, packet);
+    for (int k = 0; k < kPacketSize; ++k) {
+      const auto a = bvh->intersect(rays[k]), b = brute->intersect(rays[k]);
+      ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << i + k;
+      ASSERT_EQ(packet[k].has_value(), b.has_value()) << "ray " << i + k;
+      if (!a) continue;
+      ++hits;
+      EXPECT_EQ(packet[k]->t, a->t) << "ray " << i + k;
+      EXPECT_EQ(packet[k]->primitive, a->primitive) << "ray " << i + k;
+      // The same triangle, unless two are hit at (float-)equal distances.
+      if (a->primitive != b->primitive && std::abs(a->t - b->t) > 1e-5 * b->t) ++mismatches;
+      EXPECT_NEAR(a->t, b->t, 1e-5 * b->t) << "ray " << i + k;
+    }
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_EQ(mismatches, 0);
+}
+
 // The build's threads (parallel subtrees, refs filled in parts, the root's
 // subtrees collapsed at once) change nothing: the same nodes and blocks
 // (their bytes' digest) and the same hits, to the bit, for any thread count.

@@ -278,8 +278,14 @@ class BvhAccelerator final : public Accelerator {
     Hit& best = *result;
     bool found = intersect_planes(ray, best);
     if (single_mesh_ != kNone) {
-      // One mesh: its own BVH is the whole tree (the top level would hold one box).
-      found |= intersect_object(scene_, single_mesh_, ray, best, &mesh_bvhs_);
+      // One mesh: its own BVH is the whole tree (the top level would hold
+      // one box), called straight (not through intersect_object's switch).
+      const Object& object = scene_.objects[single_mesh_];
+      const Mesh& mesh = scene_.meshes[object.shape];
+      const MeshBvh& mesh_bvh = mesh_bvhs_[object.shape];
+      found |= object.transform == kNoTransform
+                   ? intersect_mesh(mesh, &mesh_bvh, single_mesh_, ray, best)
+                   : intersect_mesh(mesh, &mesh_bvh, single_mesh_, to_object_space(scene_, object, ray), best);
     } else {
       traverse_closest_leaves(bvh_, ray,
                               [&](uint32_t first, uint32_t count, Ray& r) { return leaf_closest(first, count, r, best, found); });
