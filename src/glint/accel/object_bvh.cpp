@@ -310,14 +310,9 @@ class BvhAccelerator final : public Accelerator {
     if (!planes_.empty() || object.transform != kNoTransform) {
       for (int i = 0; i < count; ++i) {
         Ray ray = rays[i];
-        for (const PlaneSlot& p : planes_) {
-          Hit h;
-          if (p.transformed ? intersect_object(scene_, p.object, ray, h) : plane_crossing(p.plane, ray, h.t)) {
-            h.object = p.object;
-            ray.t_max = h.t;
-            hits[i] = h;
-          }
-        }
+        // Into the answer itself, field by field: a Hit copied into it whole
+        // right after its fields were set waited for their stores.
+        if (!intersect_planes(ray, hits[i].emplace())) hits[i].reset();
         copies[i] = to_object_space(scene_, object, ray);
       }
       object_rays = copies.data();
