@@ -211,22 +211,33 @@ TEST(SealedSphere, FarCamerasSeeTheSameHitsAsBruteForce) {
 
 // --- the mesh BVH against brute force ------------------------------------------
 
-TEST(MeshBvh, SameClosestHitsAsBruteForceOnRandomRays) {
-  // A triangle soup: overlapping, intersecting, of all sizes.
-  Rng rng(5);
+// A triangle soup: `count` triangles, overlapping and intersecting, each
+// around a center in [-half_extent, half_extent]^3 and within a cube of side
+// size(i) (which may draw from `rng` too).
+template <class SizeFn>
+Mesh triangle_soup(Rng& rng, int count, double half_extent, SizeFn size) {
   Mesh soup;
   soup.file = "soup";
-  for (int i = 0; i < 3000; ++i) {
-    const Vec3 c(rng.next_double() * 10 - 5, rng.next_double() * 10 - 5, rng.next_double() * 10 - 5);
-    const double size = 0.05 + rng.next_double() * (i % 50 == 0 ? 4.0 : 0.6);
+  const double extent = 2 * half_extent;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 c(rng.next_double() * extent - half_extent, rng.next_double() * extent - half_extent,
+                 rng.next_double() * extent - half_extent);
+    const double side = size(i);
     for (int k = 0; k < 3; ++k) {
-      soup.positions.push_back(Vec3f{static_cast<float>(c.x + size * (rng.next_double() - 0.5)),
-                                     static_cast<float>(c.y + size * (rng.next_double() - 0.5)),
-                                     static_cast<float>(c.z + size * (rng.next_double() - 0.5))});
+      soup.positions.push_back(Vec3f{static_cast<float>(c.x + side * (rng.next_double() - 0.5)),
+                                     static_cast<float>(c.y + side * (rng.next_double() - 0.5)),
+                                     static_cast<float>(c.z + side * (rng.next_double() - 0.5))});
       soup.indices.push_back(static_cast<uint32_t>(soup.positions.size() - 1));
     }
   }
   soup.triangle_material.assign(soup.triangle_count(), 0);
+  return soup;
+}
+
+TEST(MeshBvh, SameClosestHitsAsBruteForceOnRandomRays) {
+  // Of all sizes.
+  Rng rng(5);
+  Mesh soup = triangle_soup(rng, 3000, 5.0, [&](int i) { return 0.05 + rng.next_double() * (i % 50 == 0 ? 4.0 : 0.6); });
   Scene scene;
   add_mesh_object(scene, add_mesh(scene, std::move(soup)), 0, true);
   const auto bvh = build_accelerator(scene);
@@ -256,18 +267,7 @@ TEST(MeshBvh, SameClosestHitsAsBruteForceOnRandomRays) {
 // and moved soup.
 TEST(MeshBvh, OneTransformedMeshMatchesBruteForce) {
   Rng rng(7);
-  Mesh soup;
-  soup.file = "soup";
-  for (int i = 0; i < 2000; ++i) {
-    const Vec3 c(rng.next_double() * 4 - 2, rng.next_double() * 4 - 2, rng.next_double() * 4 - 2);
-    for (int k = 0; k < 3; ++k) {
-      soup.positions.push_back(Vec3f{static_cast<float>(c.x + 0.4 * (rng.next_double() - 0.5)),
-                                     static_cast<float>(c.y + 0.4 * (rng.next_double() - 0.5)),
-                                     static_cast<float>(c.z + 0.4 * (rng.next_double() - 0.5))});
-      soup.indices.push_back(static_cast<uint32_t>(soup.positions.size() - 1));
-    }
-  }
-  soup.triangle_material.assign(soup.triangle_count(), 0);
+  Mesh soup = triangle_soup(rng, 2000, 2.0, [](int) { return 0.4; });
   Scene scene;
   const Transform moved =
       compose(Transform::translate({1, -2, 0.5}),
