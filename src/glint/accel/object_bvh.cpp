@@ -310,8 +310,8 @@ class BvhAccelerator final : public Accelerator {
     if (!planes_.empty() || object.transform != kNoTransform) {
       for (int i = 0; i < count; ++i) {
         Ray ray = rays[i];
-        // Into the answer itself, field by field: a Hit copied into it whole
-        // right after its fields were set waited for their stores.
+        // Into the answer itself: a Hit built apart, two fields set and then
+        // copied whole, made the copy wait for those stores.
         if (!intersect_planes(ray, hits[i].emplace())) hits[i].reset();
         copies[i] = to_object_space(scene_, object, ray);
       }

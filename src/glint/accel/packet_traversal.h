@@ -67,7 +67,10 @@ inline F16 from_quads(__m128 q0, __m128 q1, __m128 q2, __m128 q3) {
   const __m512 low = _mm512_insertf32x4(_mm512_castps128_ps512(q0), q1, 1);
   return {_mm512_insertf32x4(_mm512_insertf32x4(low, q2, 2), q3, 3)};
 }
-// The float one step nearer zero than `a` in each lane of `m`.
+// The float one step nearer zero than `a` in each lane of `m` (its bits
+// less one: the caller leaves zeros and NaNs out of `m`, which that would
+// turn into NaNs and infinities). `m` as compare16 gives it (in AVX lanes,
+// all ones or all zeros).
 inline F16 step_toward_zero16(M16 m, F16 a) {
   return {_mm512_castsi512_ps(
       _mm512_mask_sub_epi32(_mm512_castps_si512(a.v), m, _mm512_castps_si512(a.v), _mm512_set1_epi32(1)))};

@@ -8,6 +8,34 @@
 
 namespace glint {
 
+RayPacket make_ray_packet_reference(const Ray* rays, int count, PacketTMax t_max_mode) {
+  RayPacket p;
+  p.count = count;
+  for (int i = 0; i < kPacketSize; ++i) {
+    const Ray& r = rays[i < count ? i : 0];  // unused lanes repeat ray 0
+    p.origin[0][i] = static_cast<float>(r.origin.x);
+    p.origin[1][i] = static_cast<float>(r.origin.y);
+    p.origin[2][i] = static_cast<float>(r.origin.z);
+    p.direction[0][i] = static_cast<float>(r.direction.x);
+    p.direction[1][i] = static_cast<float>(r.direction.y);
+    p.direction[2][i] = static_cast<float>(r.direction.z);
+    p.t_min[i] = static_cast<float>(r.t_min);
+    // Inclusive, as intersect_mesh_bvh. Unused lanes look nowhere, so the
+    // packet's farthest distance (which culls nodes) is that of its rays.
+    const float t_max = clamp_to_float(r.t_max);
+    p.t_max[i] = i >= count ? -INFINITY : (t_max_mode == PacketTMax::inclusive ? float_toward_zero(t_max) : t_max);
+    p.triangle[i] = kNoTriangle;
+  }
+  // In float, a row at a time (vectorized): the box tests only need the
+  // inverse within an ulp or two (the boxes' padding covers it). Clamped as
+  // slab_inverse does.
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < kPacketSize; ++i)
+      p.inv_direction[a][i] = std::clamp(1.0f / p.direction[a][i], -kSlabInverseLimit, kSlabInverseLimit);
+  return p;
+}
+
+
 #if defined(__AVX2__)
 
 namespace {
@@ -39,7 +67,7 @@ void four_rays_in_float(const Ray* const (&rays)[4], __m128 (&fields)[8]) {
 
 }  // namespace
 
-// The scalar version below, in registers: its lanes were stored one float at
+// make_ray_packet_reference in registers: its lanes are stored one float at
 // a time and then read back 64 bytes at once (by the inverse and the
 // kernel), a load that has to wait for all sixteen stores to retire.
 RayPacket make_ray_packet(const Ray* rays, int count, PacketTMax t_max_mode) {
@@ -65,8 +93,8 @@ RayPacket make_ray_packet(const Ray* rays, int count, PacketTMax t_max_mode) {
     store16(p.inv_direction[a], clamped);
   }
   store16(p.t_min, field(6));
-  // float_toward_zero: every lane but zeros and NaNs one step down; unused
-  // lanes look nowhere.
+  // float_toward_zero: every lane but zeros and NaNs one step toward zero;
+  // unused lanes look nowhere.
   F16 t_max = field(7);
   if (t_max_mode == PacketTMax::inclusive)
     t_max = step_toward_zero16(compare16<_CMP_NEQ_OQ>(t_max, splat16(0.0f)), t_max);
@@ -79,30 +107,7 @@ RayPacket make_ray_packet(const Ray* rays, int count, PacketTMax t_max_mode) {
 #else
 
 RayPacket make_ray_packet(const Ray* rays, int count, PacketTMax t_max_mode) {
-  RayPacket p;
-  p.count = count;
-  for (int i = 0; i < kPacketSize; ++i) {
-    const Ray& r = rays[i < count ? i : 0];  // unused lanes repeat ray 0
-    p.origin[0][i] = static_cast<float>(r.origin.x);
-    p.origin[1][i] = static_cast<float>(r.origin.y);
-    p.origin[2][i] = static_cast<float>(r.origin.z);
-    p.direction[0][i] = static_cast<float>(r.direction.x);
-    p.direction[1][i] = static_cast<float>(r.direction.y);
-    p.direction[2][i] = static_cast<float>(r.direction.z);
-    p.t_min[i] = static_cast<float>(r.t_min);
-    // Inclusive, as intersect_mesh_bvh. Unused lanes look nowhere, so the
-    // packet's farthest distance (which culls nodes) is that of its rays.
-    const float t_max = clamp_to_float(r.t_max);
-    p.t_max[i] = i >= count ? -INFINITY : (t_max_mode == PacketTMax::inclusive ? float_toward_zero(t_max) : t_max);
-    p.triangle[i] = kNoTriangle;
-  }
-  // In float, a row at a time (vectorized): the box tests only need the
-  // inverse within an ulp or two (the boxes' padding covers it). Clamped as
-  // slab_inverse does.
-  for (int a = 0; a < 3; ++a)
-    for (int i = 0; i < kPacketSize; ++i)
-      p.inv_direction[a][i] = std::clamp(1.0f / p.direction[a][i], -kSlabInverseLimit, kSlabInverseLimit);
-  return p;
+  return make_ray_packet_reference(rays, count, t_max_mode);
 }
 
 #endif

@@ -26,12 +26,15 @@ struct alignas(64) RayPacket {
 inline constexpr uint32_t kNoTriangle = ~0u;
 
 // How a ray's double t_max becomes the lane's float t_max (clamp_to_float
-// either way; unused lanes get -inf): `inclusive`, one float step nearer,
-// so "t <= t_max" in float is "t < t_max" (the mesh kernels, as
+// either way; unused lanes get -inf): `inclusive`, one float step nearer
+// zero, so "t <= t_max" in float is "t < t_max" (the mesh kernels, as
 // intersect_mesh_bvh); `as_is` for the object BVH's leaves, which test in
 // double against the ray itself (as traverse_closest_leaves).
 enum class PacketTMax { inclusive, as_is };
 RayPacket make_ray_packet(const Ray* rays, int count, PacketTMax t_max = PacketTMax::inclusive);
+// The same packet made lane by lane in plain C++ (what make_ray_packet does
+// where there is no AVX2): the tests compare the two byte for byte.
+RayPacket make_ray_packet_reference(const Ray* rays, int count, PacketTMax t_max = PacketTMax::inclusive);
 // False (and nothing traced) when the rays are not coherent enough for the
 // packet kernel (directions of different signs or dominant axes) or the
 // build has no packet kernel (no AVX): trace them one by one then.
