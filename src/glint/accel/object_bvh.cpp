@@ -496,19 +496,17 @@ class BvhAccelerator final : public Accelerator {
     // Each ray's best hit is kept in its answer itself: a copy at the end
     // read 80 bytes at once that leaf_closest had just written field by
     // field (a failed store-to-load forwarding).
-    Hit* best[kPacketSize];
     bool found[kPacketSize];
     for (int i = 0; i < count; ++i) {
       r[i] = rays[i];
-      best[i] = &hits[i].emplace();
-      found[i] = intersect_planes(r[i], *best[i]);
+      found[i] = intersect_planes(r[i], hits[i].emplace());
     }
     RayPacket packet = make_ray_packet(r.data(), count, PacketTMax::as_is);  // as traverse_closest_leaves
     const bool traced = traverse_packet_closest(bvh_, packet, [&](uint32_t first, uint32_t n, int mask) {
       int lowered = 0;
       for (; mask; mask &= mask - 1) {
         const int i = __builtin_ctz(static_cast<unsigned>(mask));
-        if (leaf_closest(first, n, r[i], *best[i], found[i])) {
+        if (leaf_closest(first, n, r[i], *hits[i], found[i])) {
           packet.t_max[i] = clamp_to_float(r[i].t_max);
           lowered |= 1 << i;
         }
@@ -518,7 +516,7 @@ class BvhAccelerator final : public Accelerator {
     if (!traced) {
       for (int i = 0; i < count; ++i)
         traverse_closest_leaves(bvh_, r[i], [&](uint32_t first, uint32_t n, Ray& ray) {
-          return leaf_closest(first, n, ray, *best[i], found[i]);
+          return leaf_closest(first, n, ray, *hits[i], found[i]);
         });
     }
     for (int i = 0; i < count; ++i)
