@@ -1,7 +1,9 @@
 // HugePageVector: a std::vector whose large buffers ask Linux for 2 MiB
 // pages (transparent huge pages, madvise mode). A ray through a big mesh
 // touches nodes and leaf blocks scattered over hundreds of megabytes; with
-// 4 KiB pages nearly every one of those loads also misses the TLB.
+// 4 KiB pages nearly every one of those loads also misses the TLB. Asked
+// only where they pay (util/page_policy.h): on some virtual machines a
+// fresh 2 MiB page costs far more than its 512 small ones.
 #pragma once
 
 #include <cstddef>
@@ -10,6 +12,8 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "glint/util/page_policy.h"
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -60,7 +64,8 @@ struct HugePageAllocator {
     void* p = std::aligned_alloc(kHugePageBytes, rounded);
     if (!p) throw std::bad_alloc();
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    ::madvise(p, rounded, MADV_HUGEPAGE);  // a hint: without THP the pages stay small
+    // A hint (without THP the pages stay small), given where it pays.
+    if (huge_pages_pay()) ::madvise(p, rounded, MADV_HUGEPAGE);
 #endif
     return static_cast<T*>(p);
   }

@@ -7,6 +7,8 @@
 // there), every thread allocates from it, and it grows once, by 64 MiB ahead,
 // advised to the kernel as huge-page memory: where transparent huge pages
 // are on ("madvise" mode, Debian's default) it costs one fault per 2 MiB.
+// Not where the kernel reports free memory to a hypervisor: there fresh
+// 2 MiB pages cost far more than small ones (util/page_policy.h).
 // That is the program's choice for its own process (glibc's tunables
 // hugetlb=1 and arena_max=1 would make much the same one); the library never
 // changes the allocator of the program it is in.
@@ -14,6 +16,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+
+#include "glint/util/page_policy.h"
 
 #if defined(__GLIBC__) && defined(__linux__)
 #include <malloc.h>
@@ -53,7 +57,8 @@ void set_up_heap() {
   static void* const first_page = std::malloc(kHugePage - 256);
   const auto after = reinterpret_cast<uintptr_t>(sbrk(0));
   const uintptr_t from = first + kHugePage, to = after & ~(kHugePage - 1);
-  if (first_page && to > from) madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
+  if (first_page && to > from && glint::huge_pages_pay())
+    madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
 }
 
 #else

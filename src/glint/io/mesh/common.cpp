@@ -7,6 +7,8 @@
 #include <exception>
 #include <thread>
 
+#include "glint/util/page_policy.h"
+
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
@@ -69,7 +71,7 @@ void run_parallel(size_t n, size_t threads, const std::function<void(size_t)>& f
 void advise_huge_pages(const void* data, size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   constexpr uintptr_t kHuge = uintptr_t{2} << 20;
-  if (bytes < 2 * kHuge) return;
+  if (bytes < 2 * kHuge || !huge_pages_pay()) return;
   const auto begin = reinterpret_cast<uintptr_t>(data);
   const uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1), last = (begin + bytes) & ~(kHuge - 1);
   if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);

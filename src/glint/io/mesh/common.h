@@ -33,7 +33,8 @@ inline bool is_finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfini
 
 // Asks Linux for 2 MiB pages for the whole 2 MiB blocks inside
 // [data, data + bytes) (transparent huge pages, madvise mode); a hint, and
-// nothing for less than 4 MiB. Only pages not touched yet become huge.
+// nothing for less than 4 MiB or where huge pages do not pay
+// (util/page_policy.h). Only pages not touched yet become huge.
 void advise_huge_pages(const void* data, size_t bytes);
 
 // `v` (empty, or holding what it keeps) resized to n value-initialised
