@@ -116,38 +116,51 @@ Bytes pixels8(const Image& image, const WriteOptions& options) {
 // The 8-bit rows of an image for the PNG encoder, made by a helper thread a
 // band at a time while libpng compresses the bands before: each of the two
 // is about half of writing a big PNG, so they overlap instead of adding up.
-// Small images are encoded at once.
+// Small images are encoded at once. With `available` (a PngStream's), a band
+// is made only once that many rows of the image are final; a negative
+// value abandons the rows (row() then returns nullptr).
 class PngRows {
  public:
-  PngRows(const Image& image, const WriteOptions& options)
+  PngRows(const Image& image, const WriteOptions& options, const std::atomic<int>* available = nullptr)
       : stride_(3 * static_cast<size_t>(image.width)), codes_(new std::uint8_t[image.rgb.size()]) {
-    if (image.rgb.size() < kCodesForThreads) {
+    if (!available && image.rgb.size() < kCodesForThreads) {
       encode8(image, options, codes_.get(), 0, image.rgb.size());
       ready_ = image.height;
       return;
     }
     srgb8_table();  // built here: the helper thread must not throw
-    converter_ = std::jthread([this, &image, &options] {
+    converter_ = std::jthread([this, &image, &options, available] {
       constexpr int kBandRows = 16;
       for (int y0 = 0; y0 < image.height; y0 += kBandRows) {
         const int y1 = std::min(image.height, y0 + kBandRows);
+        if (available) {
+          int final_rows = available->load(std::memory_order_acquire);
+          for (; final_rows >= 0 && final_rows < y1; final_rows = available->load(std::memory_order_acquire))
+            available->wait(final_rows, std::memory_order_acquire);
+          if (final_rows < 0) {
+            ready_.store(-1, std::memory_order_release);
+            ready_.notify_all();
+            return;
+          }
+        }
         encode8(image, options, codes_.get(), stride_ * static_cast<size_t>(y0), stride_ * static_cast<size_t>(y1));
         ready_.store(y1, std::memory_order_release);
         ready_.notify_all();
       }
     });
   }
-  // Row y, once the helper has made it.
+  // Row y, once the helper has made it; nullptr when the rows were abandoned.
   const std::uint8_t* row(int y) {
-    for (int ready = ready_.load(std::memory_order_acquire); ready <= y; ready = ready_.load(std::memory_order_acquire))
+    int ready = ready_.load(std::memory_order_acquire);
+    for (; ready >= 0 && ready <= y; ready = ready_.load(std::memory_order_acquire))
       ready_.wait(ready, std::memory_order_acquire);
-    return codes_.get() + stride_ * static_cast<size_t>(y);
+    return ready < 0 ? nullptr : codes_.get() + stride_ * static_cast<size_t>(y);
   }
 
  private:
   size_t stride_;
   std::unique_ptr<std::uint8_t[]> codes_;  // not zeroed: each row is written once, by whoever makes it
-  std::atomic<int> ready_{0};              // rows made so far
+  std::atomic<int> ready_{0};              // rows made so far; -1: abandoned
   std::jthread converter_;                 // last: joined before the rows are freed
 };
 
@@ -230,9 +243,10 @@ void png_ignore_warning(png_structp, png_const_charp) {}
 
 // libpng at zlib level 1, the Up filter and run lengths only (Z_RLE): a
 // render's PNG is written for speed, not size (stb_image_write was several
-// times slower; docs/performance.md).
-Bytes encode_png(const Image& image, const WriteOptions& options) {
-  PngRows rows(image, options);  // before setjmp: a longjmp skips no destructor of it
+// times slower; docs/performance.md). False when `available` abandoned the
+// rows before the last (nothing in `out` then).
+bool encode_png_into(const Image& image, const WriteOptions& options, const std::atomic<int>* available, Bytes& out) {
+  PngRows rows(image, options, available);  // before setjmp: a longjmp skips no destructor of it
   PngSink sink;
   sink.bytes.reserve(image.rgb.size() / 4);
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, png_fail, png_ignore_warning);
@@ -253,11 +267,25 @@ Bytes encode_png(const Image& image, const WriteOptions& options) {
   png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
                PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
-  for (int y = 0; y < image.height; ++y) png_write_row(png, const_cast<png_bytep>(rows.row(y)));
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* row = rows.row(y);
+    if (!row) {
+      png_destroy_write_struct(&png, &info);
+      return false;
+    }
+    png_write_row(png, const_cast<png_bytep>(row));
+  }
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   if (sink.failed) throw std::bad_alloc();
-  return std::move(sink.bytes);
+  out = std::move(sink.bytes);
+  return true;
+}
+
+Bytes encode_png(const Image& image, const WriteOptions& options) {
+  Bytes out;
+  encode_png_into(image, options, nullptr, out);
+  return out;
 }
 
 struct FreeDeleter {
@@ -587,24 +615,33 @@ bool is_8bit_format(ImageFormat format) {
   return format == ImageFormat::png || format == ImageFormat::jpg || format == ImageFormat::ppm;
 }
 
+namespace {
+
+// What write_image checks before it encodes: a known extension, an image of
+// a valid size, an existing folder, no directory in the way.
+ImageFormat check_image_target(const Image& image, const fs::path& path) {
+  const auto format = image_format_for_path(path);
+  if (!format) fail_write(path, unsupported_extension_reason(path));
+  if (!valid_image_size(image.width, image.height)) {
+    fail_write(path, "invalid image size " + std::to_string(image.width) + "x" + std::to_string(image.height));
+  }
+  if (image.rgb.size() != 3 * static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height)) {
+    fail_write(path, "image has " + std::to_string(image.rgb.size()) + " floats, expected 3*" +
+                         std::to_string(image.width) + "*" + std::to_string(image.height));
+  }
+  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::error_code ec;
+  if (!fs::exists(folder, ec)) fail_write(path, "folder '" + folder.string() + "' does not exist");
+  if (!fs::is_directory(folder, ec)) fail_write(path, "'" + folder.string() + "' is not a folder");
+  if (fs::is_directory(path, ec)) fail_write(path, "it is a directory");
+  return *format;
+}
+
+}  // namespace
+
 void write_image(const Image& image, const fs::path& path, const WriteOptions& options) {
   return naming_the_file(path, fail_write, [&] {
-    const auto format = image_format_for_path(path);
-    if (!format) fail_write(path, unsupported_extension_reason(path));
-    if (!valid_image_size(image.width, image.height)) {
-      fail_write(path, "invalid image size " + std::to_string(image.width) + "x" + std::to_string(image.height));
-    }
-    if (image.rgb.size() != 3 * static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height)) {
-      fail_write(path, "image has " + std::to_string(image.rgb.size()) + " floats, expected 3*" +
-                           std::to_string(image.width) + "*" + std::to_string(image.height));
-    }
-    const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-    std::error_code ec;
-    if (!fs::exists(folder, ec)) fail_write(path, "folder '" + folder.string() + "' does not exist");
-    if (!fs::is_directory(folder, ec)) fail_write(path, "'" + folder.string() + "' is not a folder");
-    if (fs::is_directory(path, ec)) fail_write(path, "it is a directory");
-
-    switch (*format) {
+    switch (check_image_target(image, path)) {
       case ImageFormat::ppm: write_file_atomically(path, encode_ppm(image, options), Flush::no); break;
       case ImageFormat::pfm: write_file_atomically(path, encode_pfm(image), Flush::no); break;
       case ImageFormat::png: write_file_atomically(path, encode_png(image, options), Flush::no); break;
@@ -616,6 +653,53 @@ void write_image(const Image& image, const fs::path& path, const WriteOptions& o
       }
       case ImageFormat::hdr: write_file_atomically(path, encode_hdr(image), Flush::no); break;
     }
+  });
+}
+
+struct PngStream::State {
+  const Image& image;
+  WriteOptions options;
+  std::atomic<int> final_rows{0};  // -1: abandoned
+  Bytes bytes;
+  bool complete = false;
+  std::exception_ptr error;
+  std::jthread encoder;  // last: joined first
+};
+
+PngStream::PngStream(const Image& image, const WriteOptions& options)
+    : state_(new State{image, options, {}, {}, false, {}, {}}) {
+  State& s = *state_;
+  s.encoder = std::jthread([&s] {
+    try {
+      s.complete = encode_png_into(s.image, s.options, &s.final_rows, s.bytes);
+    } catch (...) {
+      s.error = std::current_exception();
+    }
+  });
+}
+
+PngStream::~PngStream() {
+  if (state_->encoder.joinable()) {
+    state_->final_rows.store(-1, std::memory_order_release);
+    state_->final_rows.notify_all();
+  }
+}
+
+void PngStream::rows_final(int rows) {
+  state_->final_rows.store(rows, std::memory_order_release);
+  state_->final_rows.notify_all();
+}
+
+void PngStream::write(const fs::path& path) {
+  State& s = *state_;
+  naming_the_file(path, fail_write, [&] {
+    if (check_image_target(s.image, path) != ImageFormat::png) fail_write(path, "not a .png file");
+    if (s.final_rows.load(std::memory_order_acquire) < s.image.height)
+      throw std::logic_error("the image's rows are not all final");
+    s.encoder.join();
+    if (s.error) std::rethrow_exception(s.error);
+    if (!s.complete) throw std::logic_error("the PNG was abandoned");
+    write_file_atomically(path, s.bytes, Flush::no);
   });
 }
 

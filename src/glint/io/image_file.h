@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -41,6 +42,30 @@ bool is_8bit_format(ImageFormat format);
 // Atomic: an existing file at `path` is replaced only by a complete new file.
 // Throws glint::Error("<path>: cannot write: <reason>").
 void write_image(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
+
+// A PNG compressed while its image is still being rendered, so that the
+// compression overlaps the render instead of following it: a thread of its
+// own takes each band of rows once rows_final() says the renderer has
+// finished them (RenderOptions::rows_final). write() waits for the last row
+// and writes what write_image(image, path, options) would, byte for byte.
+// Destroyed without write() (a cancelled or failed render), it stops at once
+// and writes nothing. `image` must outlive it and keep its size.
+class PngStream {
+ public:
+  PngStream(const Image& image, const WriteOptions& options = {});
+  ~PngStream();
+  PngStream(const PngStream&) = delete;
+  PngStream& operator=(const PngStream&) = delete;
+  // Rows 0 .. rows - 1 of the image are final. Any thread; rows only grow.
+  void rows_final(int rows);
+  // After rows_final(image height): the file, as write_image writes it.
+  // Throws glint::Error("<path>: cannot write: <reason>").
+  void write(const std::filesystem::path& path);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 // The bytes write_image writes for `format`, in memory (no file involved).
 std::vector<unsigned char> encode_image(const Image& image, ImageFormat format, const WriteOptions& options = {});

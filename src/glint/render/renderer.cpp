@@ -336,6 +336,28 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
   int threads_used = 1;
   RayStats total;
 
+  // For options.rows_final: the tiles of each band (a row of tiles) still
+  // short of their last stage, and the bands from the top all final.
+  std::mutex bands_mutex;
+  std::vector<int> band_tiles_left(static_cast<size_t>(progress.tiles_y), 0);
+  int bands_final = 0;
+  auto announce_final_bands = [&] {  // under bands_mutex
+    const int before = bands_final;
+    while (bands_final < progress.tiles_y && band_tiles_left[static_cast<size_t>(bands_final)] == 0) ++bands_final;
+    if (bands_final > before) options.rows_final(std::min(h, bands_final * tile));
+  };
+  if (options.rows_final) {
+    for (size_t t = 0; t < progress.done.size(); ++t)
+      if (progress.done[t] < stages) ++band_tiles_left[t / static_cast<size_t>(progress.tiles_x)];
+    announce_final_bands();
+  }
+  auto tile_final = [&](int t) {
+    if (!options.rows_final) return;
+    const std::lock_guard lock(bands_mutex);
+    --band_tiles_left[static_cast<size_t>(t / progress.tiles_x)];
+    announce_final_bands();
+  };
+
   // Each stage renders whole rows of a tile, `rows` at a time, and checks
   // for a cancel between them; each worker writes only its own tiles' flags
   // and pixels.
@@ -353,7 +375,10 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
         render_rows(y, y_end, x0, x1, ctx);
         complete = !cancelled() || y_end == y1;
       }
-      if (complete) progress.done[static_cast<size_t>(t)] = stage;
+      if (complete) {
+        progress.done[static_cast<size_t>(t)] = stage;
+        if (stage == stages) tile_final(t);
+      }
     });
   };
 

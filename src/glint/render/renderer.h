@@ -25,6 +25,12 @@ struct RenderOptions {
   // When set and true, workers stop taking tiles and abandon the ones they are
   // on (checked once per row); finished tiles stay finished.
   const std::atomic<bool>* cancel = nullptr;
+  // When set, called as rows of the image become final (every tile across
+  // them finished its last stage) with the number of final rows from the
+  // top: increasing, one call at a time, from the worker threads, up to
+  // the height once the render is complete. A PngStream compresses them
+  // meanwhile.
+  std::function<void(int rows)> rows_final;
 };
 
 // Which tiles of an image are finished: the unit of interrupt and resume.
