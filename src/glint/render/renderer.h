@@ -27,9 +27,9 @@ struct RenderOptions {
   const std::atomic<bool>* cancel = nullptr;
   // When set, called as rows of the image become final (every tile across
   // them finished its last stage) with the number of final rows from the
-  // top: increasing, one call at a time, from the worker threads, up to
-  // the height once the render is complete. A PngStream compresses them
-  // meanwhile.
+  // top: increasing, one call at a time (first for the tiles a resumed
+  // render already had, then from the worker threads), up to the height
+  // once the render is complete. A PngStream compresses them meanwhile.
   std::function<void(int rows)> rows_final;
 };
 
