@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -85,7 +86,11 @@ TEST(HugePagePolicy, TheProcessAnswerIsStable) {
       EXPECT_FALSE(first);
       break;
     case HugePagePolicy::automatic:
+#if defined(__linux__)
       EXPECT_EQ(first, !glint::reports_free_pages());
+#else
+      EXPECT_FALSE(first);  // no madvise to ask
+#endif
       break;
   }
 }

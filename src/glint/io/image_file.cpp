@@ -22,10 +22,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <new>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -113,6 +115,13 @@ Bytes pixels8(const Image& image, const WriteOptions& options) {
   return out;
 }
 
+// Waits until `value` is at least `n` or negative (abandoned); returns it.
+int wait_for_at_least(const std::atomic<int>& value, int n) {
+  int now = value.load(std::memory_order_acquire);
+  for (; now >= 0 && now < n; now = value.load(std::memory_order_acquire)) value.wait(now, std::memory_order_acquire);
+  return now;
+}
+
 // The 8-bit rows of an image for the PNG encoder, made by a helper thread a
 // band at a time while libpng compresses the bands before: each of the two
 // is about half of writing a big PNG, so they overlap instead of adding up.
@@ -133,15 +142,10 @@ class PngRows {
       constexpr int kBandRows = 16;
       for (int y0 = 0; y0 < image.height; y0 += kBandRows) {
         const int y1 = std::min(image.height, y0 + kBandRows);
-        if (available) {
-          int final_rows = available->load(std::memory_order_acquire);
-          for (; final_rows >= 0 && final_rows < y1; final_rows = available->load(std::memory_order_acquire))
-            available->wait(final_rows, std::memory_order_acquire);
-          if (final_rows < 0) {
-            ready_.store(-1, std::memory_order_release);
-            ready_.notify_all();
-            return;
-          }
+        if (available && wait_for_at_least(*available, y1) < 0) {
+          ready_.store(-1, std::memory_order_release);
+          ready_.notify_all();
+          return;
         }
         encode8(image, options, codes_.get(), stride_ * static_cast<size_t>(y0), stride_ * static_cast<size_t>(y1));
         ready_.store(y1, std::memory_order_release);
@@ -151,10 +155,7 @@ class PngRows {
   }
   // Row y, once the helper has made it; nullptr when the rows were abandoned.
   const std::uint8_t* row(int y) {
-    int ready = ready_.load(std::memory_order_acquire);
-    for (; ready >= 0 && ready <= y; ready = ready_.load(std::memory_order_acquire))
-      ready_.wait(ready, std::memory_order_acquire);
-    return ready < 0 ? nullptr : codes_.get() + stride_ * static_cast<size_t>(y);
+    return wait_for_at_least(ready_, y + 1) < 0 ? nullptr : codes_.get() + stride_ * static_cast<size_t>(y);
   }
 
  private:
@@ -686,7 +687,11 @@ PngStream::~PngStream() {
 }
 
 void PngStream::rows_final(int rows) {
-  state_->final_rows.store(rows, std::memory_order_release);
+  // The largest count so far, and never over an abandon (-1).
+  int now = state_->final_rows.load(std::memory_order_relaxed);
+  while (now >= 0 && now < rows &&
+         !state_->final_rows.compare_exchange_weak(now, rows, std::memory_order_release, std::memory_order_relaxed)) {
+  }
   state_->final_rows.notify_all();
 }
 
@@ -696,6 +701,7 @@ void PngStream::write(const fs::path& path) {
     if (check_image_target(s.image, path) != ImageFormat::png) fail_write(path, "not a .png file");
     if (s.final_rows.load(std::memory_order_acquire) < s.image.height)
       throw std::logic_error("the image's rows are not all final");
+    if (!s.encoder.joinable()) throw std::logic_error("the PNG was written already");
     s.encoder.join();
     if (s.error) std::rethrow_exception(s.error);
     if (!s.complete) throw std::logic_error("the PNG was abandoned");

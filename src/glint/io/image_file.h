@@ -44,12 +44,13 @@ bool is_8bit_format(ImageFormat format);
 void write_image(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
 
 // A PNG compressed while its image is still being rendered, so that the
-// compression overlaps the render instead of following it: a thread of its
-// own takes each band of rows once rows_final() says the renderer has
-// finished them (RenderOptions::rows_final). write() waits for the last row
-// and writes what write_image(image, path, options) would, byte for byte.
-// Destroyed without write() (a cancelled or failed render), it stops at once
-// and writes nothing. `image` must outlive it and keep its size.
+// compression overlaps the render instead of following it: threads of its
+// own (8-bit codes, libpng) take each band of rows once rows_final() says
+// the renderer has finished them (RenderOptions::rows_final). write(), once
+// every row is final, waits for the compression and writes what
+// write_image(image, path, options) would, byte for byte. Destroyed without
+// write() (a cancelled or failed render) it writes nothing, and stops before
+// the first row not yet final. `image` must outlive it and keep its size.
 class PngStream {
  public:
   PngStream(const Image& image, const WriteOptions& options = {});
@@ -58,8 +59,8 @@ class PngStream {
   PngStream& operator=(const PngStream&) = delete;
   // Rows 0 .. rows - 1 of the image are final. Any thread; rows only grow.
   void rows_final(int rows);
-  // After rows_final(image height): the file, as write_image writes it.
-  // Throws glint::Error("<path>: cannot write: <reason>").
+  // After rows_final(image height), once: the file, as write_image writes
+  // it. Throws glint::Error("<path>: cannot write: <reason>").
   void write(const std::filesystem::path& path);
 
  private:

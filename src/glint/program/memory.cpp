@@ -43,6 +43,7 @@ void set_up_heap() {
   // small pages (the accelerator's build threads allocate as much as the
   // main one). The render threads hardly allocate, so they do not wait on it.
   mallopt(M_ARENA_MAX, 1);
+  if (!glint::huge_pages_pay()) return;  // the rest only readies the heap for huge pages
   // The program break moved up to a huge page boundary (glibc takes a break
   // moved by someone else as a new start of its heap). Then a block of
   // nearly 2 MiB, kept for good, makes malloc grow the heap now by the block
@@ -57,8 +58,7 @@ void set_up_heap() {
   static void* const first_page = std::malloc(kHugePage - 256);
   const auto after = reinterpret_cast<uintptr_t>(sbrk(0));
   const uintptr_t from = first + kHugePage, to = after & ~(kHugePage - 1);
-  if (first_page && to > from && glint::huge_pages_pay())
-    madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
+  if (first_page && to > from) madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
 }
 
 #else

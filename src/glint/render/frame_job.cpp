@@ -157,7 +157,10 @@ FrameReport render_frame_to_files(const Scene& scene, const std::function<uint64
   RenderOptions render = job.render;
   if (image_format_for_path(job.output.path) == ImageFormat::png && f.passes.passes.empty()) {
     png.emplace(f.image, job.output.light);
-    render.rows_final = [&png](int rows) { png->rows_final(rows); };
+    render.rows_final = [&png, caller = job.render.rows_final](int rows) {
+      png->rows_final(rows);
+      if (caller) caller(rows);
+    };
   }
   report.complete = render_tiles(scene, *accel, f.image, f.tiles, render, &report.stats, &f.passes);
   report.tiles_done = f.tiles.count_done();
@@ -168,7 +171,7 @@ FrameReport render_frame_to_files(const Scene& scene, const std::function<uint64
     return report;
   }
   const auto write_start = Clock::now();
-  if (png) png->write(job.output.path);
+  if (png) png->write(job.output.path);  // what write_outputs writes for a PNG without passes
   else write_outputs(f.image, f.passes, job.output);
   report.write_seconds = seconds_since(write_start);
   std::error_code ignored;

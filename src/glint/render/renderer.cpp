@@ -339,9 +339,9 @@ bool render_tiles(const Scene& scene, const Accelerator& accel, Image& image, Ti
   // For options.rows_final: the tiles of each band (a row of tiles) still
   // short of their last stage, and the bands from the top all final.
   std::mutex bands_mutex;
-  std::vector<int> band_tiles_left(static_cast<size_t>(progress.tiles_y), 0);
+  std::vector<int> band_tiles_left(options.rows_final ? static_cast<size_t>(progress.tiles_y) : 0, 0);
   int bands_final = 0;
-  auto announce_final_bands = [&] {  // under bands_mutex
+  auto announce_final_bands = [&] {  // under bands_mutex once the workers run
     const int before = bands_final;
     while (bands_final < progress.tiles_y && band_tiles_left[static_cast<size_t>(bands_final)] == 0) ++bands_final;
     if (bands_final > before) options.rows_final(std::min(h, bands_final * tile));

@@ -29,7 +29,9 @@ struct RenderOptions {
   // them finished its last stage) with the number of final rows from the
   // top: increasing, one call at a time (first for the tiles a resumed
   // render already had, then from the worker threads), up to the height
-  // once the render is complete. A PngStream compresses them meanwhile.
+  // once the render is complete. It runs under a lock the workers share:
+  // it must be quick and must not throw. A PngStream compresses the rows
+  // meanwhile.
   std::function<void(int rows)> rows_final;
 };
 

@@ -19,7 +19,8 @@ HugePagePolicy huge_page_policy(const char* env_value);
 
 // Whether a virtio balloon device under `virtio_devices` (sysfs) has
 // negotiated free page reporting (VIRTIO_BALLOON_F_REPORTING, feature bit
-// 5). Reads virtio0 .. virtio63; allocates nothing.
+// 5). Reads virtio0 .. virtio63; allocates nothing. (Other hypervisors'
+// balloons, such as Hyper-V's, are not looked for.)
 bool reports_free_pages(const char* virtio_devices = "/sys/bus/virtio/devices");
 
 // The process's answer, decided on the first call and the same from then
