@@ -226,6 +226,34 @@ TEST(MeshFileObj, UsemtlOfAnUnknownNameIsAWarning) {
   EXPECT_NE(m.warnings[0].find("usemtl 'blue' not in the material library"), std::string::npos);
 }
 
+// A file of triangles only hands its corners and face materials over as
+// they stand (obj.cpp); one quad more sends it through the triangulation.
+// Both must give the same triangles, materials included.
+TEST(MeshFileObj, TrianglesOnlyAndMixedFacesGiveTheSameTriangles) {
+  TempDir dir;
+  dir.write("m.mtl", "newmtl red\nKd 1 0 0\nnewmtl green\nKd 0 1 0\n");
+  const std::string triangles =
+      "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
+      "f 1 2 3\nusemtl green\nf 1 3 4\nusemtl blue\nf 2 3 5\nusemtl red\nf -5 -4 -1\n";
+  const MeshFile only = load_mesh_file(dir.write("only.obj", triangles));
+  const MeshFile mixed = load_mesh_file(dir.write("mixed.obj", triangles + "usemtl green\nf 1 2 3 4\n"));
+  ASSERT_EQ(only.triangle_count(), 4u);
+  ASSERT_EQ(mixed.triangle_count(), 6u);
+  const std::vector<uint32_t> indices = {0, 1, 2, 0, 2, 3, 1, 2, 4, 0, 1, 4};
+  EXPECT_EQ(only.indices, indices);
+  EXPECT_EQ(std::vector<uint32_t>(mixed.indices.begin(), mixed.indices.begin() + 12), indices);
+  const auto material = [](const MeshFile& m, size_t t) {
+    return m.triangle_material[t] < 0 ? std::string("-") : m.materials[m.triangle_material[t]].name;
+  };
+  const char* expected[] = {"-", "green", "-", "red"};
+  for (size_t t = 0; t < 4; ++t) {
+    EXPECT_EQ(material(only, t), expected[t]) << "triangle " << t;
+    EXPECT_EQ(material(mixed, t), expected[t]) << "triangle " << t;
+  }
+  EXPECT_EQ(material(mixed, 4), "green");
+  EXPECT_EQ(material(mixed, 5), "green");
+}
+
 TEST(MeshFileObj, QuadsSplitOnTheShorterDiagonalAndPolygonsFan) {
   const MeshFile m = load_mesh_file(fixture("quads.obj"));
   ASSERT_EQ(m.triangle_count(), 5u);

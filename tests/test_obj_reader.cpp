@@ -134,7 +134,7 @@ std::string difference(const Reference& ref, const ObjData& obj) {
   for (size_t c = 0; c < ref.corners.size(); ++c) {
     const int vt = obj.corner_texcoord.empty() ? -1 : obj.corner_texcoord[c];
     const int vn = obj.corner_normal.empty() ? -1 : obj.corner_normal[c];
-    if (ref.corners[c].vertex_index != obj.corner_vertex[c] || ref.corners[c].texcoord_index != vt ||
+    if (ref.corners[c].vertex_index != static_cast<int>(obj.corner_vertex[c]) || ref.corners[c].texcoord_index != vt ||
         ref.corners[c].normal_index != vn)
       return "corner " + std::to_string(c);
   }
@@ -276,8 +276,8 @@ TEST(ObjReader, SameResultForAnyNumberOfChunks) {
   const ObjData one = read_obj(text, "t.obj", &mtl, {1, 1});
   // The values themselves: the first face counts back from vertex 3.
   ASSERT_GE(one.face_count(), 40u);
-  EXPECT_EQ(one.corner_vertex[0], 0);
-  EXPECT_EQ(one.corner_vertex[2], 2);
+  EXPECT_EQ(one.corner_vertex[0], 0u);
+  EXPECT_EQ(one.corner_vertex[2], 2u);
   EXPECT_EQ(one.corner_normal[2], 2);
   EXPECT_EQ(one.corner_texcoord[2], 2);
   EXPECT_EQ(one.small_faces, 1u);

@@ -367,7 +367,7 @@ void parse_lines(Lines& lines, const Counts& before, ObjData& out, Chunk& c) {
           return;
         }
         for (const auto& index : corners) {
-          out.corner_vertex[corner] = index[0];
+          out.corner_vertex[corner] = static_cast<uint32_t>(index[0]);  // read_corner: 0 or more
           if (keep_texcoord) out.corner_texcoord[corner] = index[1];
           if (keep_normal) out.corner_normal[corner] = index[2];
           ++corner;

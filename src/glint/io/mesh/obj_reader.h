@@ -32,8 +32,10 @@ struct ObjData {
   std::vector<uint32_t> face_start{0};
   // Per corner, 0-based: the vertex, and the texture coordinate and normal
   // (-1: none). corner_texcoord / corner_normal are empty when the file has
-  // no vt / vn statement.
-  std::vector<int32_t> corner_vertex, corner_texcoord, corner_normal;
+  // no vt / vn statement. The vertices are unsigned, as a mesh's indices are:
+  // a file of triangles hands them over as they stand (obj.cpp).
+  std::vector<uint32_t> corner_vertex;
+  std::vector<int32_t> corner_texcoord, corner_normal;
   std::vector<int32_t> face_material;          // per face: index into materials, or -1
   std::vector<tinyobj::material_t> materials;  // from the mtllib libraries, as tinyobj::LoadMtl reads them
   std::vector<std::string> unknown_materials;  // usemtl names no library loaded before it has, in file order
