@@ -113,6 +113,7 @@ struct RaySet {
 void parallel_for(size_t n, int threads, const std::function<void(size_t, size_t)>& body) {
   std::atomic<size_t> next{0};
   constexpr size_t kChunk = 1024;
+  static_assert(kChunk % 16 == 0);  // the packet kernels' 16 rays never straddle two chunks
   auto worker = [&] {
     for (;;) {
       const size_t begin = next.fetch_add(kChunk);
@@ -401,21 +402,19 @@ Kernel embree_kernel(const glint::Scene& scene, bool robust = false) {
 }
 #endif
 
-// Mrays/s of `fn` over `rays` at `threads` threads: best of `repeat`.
+// Mrays/s of `fn` over `rays` at `threads` threads, one run.
 double mrays(const std::function<uint64_t(const std::vector<glint::Ray>&, size_t, size_t)>& fn,
-             const std::vector<glint::Ray>& rays, int threads, int repeat, uint64_t* hits_out) {
-  double best = 0;
-  constexpr size_t kChunk16 = 1024;  // multiple of 16: packets never straddle chunks
-  static_assert(kChunk16 % 16 == 0);
-  for (int r = 0; r < repeat; ++r) {
-    std::atomic<uint64_t> hits{0};
-    const auto t0 = Clock::now();
-    parallel_for(rays.size(), threads, [&](size_t b, size_t e) { hits += fn(rays, b, e); });
-    const double s = seconds_since(t0);
-    best = std::max(best, rays.size() / s / 1e6);
-    if (hits_out) *hits_out = hits.load();
-  }
-  return best;
+             const std::vector<glint::Ray>& rays, int threads) {
+  std::atomic<uint64_t> hits{0};
+  const auto t0 = Clock::now();
+  parallel_for(rays.size(), threads, [&](size_t b, size_t e) { hits += fn(rays, b, e); });
+  return rays.size() / seconds_since(t0) / 1e6;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 std::vector<size_t> parse_list(const std::string& s) {
@@ -440,7 +439,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads_arg, "thread counts, comma-separated");
   app.add_option("--width", width);
   app.add_option("--height", height);
-  app.add_option("--repeat", repeat, "runs per measurement; the best is reported");
+  app.add_option("--repeat", repeat, "rounds: every kernel traces every ray set once a round")
+      ->check(CLI::Range(1, 1000));
   bool only_ours = false;
   app.add_flag("--only-ours", only_ours, "measure our BVH alone (for profiling)");
   std::string kinds_arg = "camera,shadow,mirror,packets";
@@ -458,7 +458,8 @@ int main(int argc, char** argv) {
   const bool want_camera = wanted("camera"), want_shadow = wanted("shadow"), want_mirror = wanted("mirror"),
              want_packets = wanted("packets");
 
-  std::printf("glint_bench_accel: %dx%d camera rays, best of %d; Mrays/s\n\n", width, height, repeat);
+  std::printf("glint_bench_accel: %dx%d camera rays, best of %d rounds (every kernel once a round); Mrays/s\n\n", width,
+              height, repeat);
   // Scaling: per kernel, per size, the cost of a camera ray and a mirror ray
   // at the first thread count (1 / Mrays/s), for the curve at the end.
   std::vector<std::pair<std::string, std::vector<std::pair<size_t, std::array<double, 2>>>>> scaling;
@@ -495,29 +496,38 @@ int main(int argc, char** argv) {
     std::printf("%-13s %8s %9s %9s", "kernel", "build s", "B/tri", "peak B/tri");
     for (size_t t : thread_counts) std::printf(" | %zuT: camera  shadow  mirror  cam-pkt", t);
     std::printf("\n");
-    std::vector<std::vector<double>> results;
-    for (const Kernel& k : kernels) {
+    // Measured in rounds: in each round every kernel traces every ray set
+    // once, so our runs and Embree's take turns and a change of the
+    // machine's speed during the bench (these shared machines drift over
+    // seconds) meets both alike. runs[k][4 * thread_index + kind][round],
+    // kinds camera, shadow, mirror, packets; 0 where not measured (--rays).
+    std::vector<std::vector<std::vector<double>>> runs(kernels.size(),
+                                                       std::vector<std::vector<double>>(4 * thread_counts.size()));
+    for (int round = 0; round < repeat; ++round)
+      for (size_t k = 0; k < kernels.size(); ++k)
+        for (size_t ti = 0; ti < thread_counts.size(); ++ti) {
+          const Kernel& kernel = kernels[k];
+          const int t = static_cast<int>(thread_counts[ti]);
+          std::vector<double>* out = &runs[k][4 * ti];
+          out[0].push_back(want_camera ? mrays(kernel.closest, rays.camera, t) : 0.0);
+          out[1].push_back(want_shadow ? mrays(kernel.any, rays.shadow, t) : 0.0);
+          out[2].push_back(want_mirror ? mrays(kernel.closest, rays.mirror, t) : 0.0);
+          out[3].push_back(want_packets && kernel.closest_packets ? mrays(kernel.closest_packets, rays.camera, t)
+                                                                  : 0.0);
+        }
+    std::vector<std::vector<double>> results;  // each kernel's best round
+    for (size_t k = 0; k < kernels.size(); ++k) {
       std::vector<double> row;
-      std::printf("%-13s %8.3f %9.1f %9.1f", k.name.c_str(), k.build_seconds, k.bytes_per_triangle,
-                  k.peak_bytes_per_triangle);
-      for (size_t t : thread_counts) {
-        uint64_t camera_hits = 0, shadow_hits = 0;
-        // 0: not measured (--rays), printed as such.
-        const double cam = want_camera ? mrays(k.closest, rays.camera, static_cast<int>(t), repeat, &camera_hits) : 0.0;
-        const double sh = want_shadow ? mrays(k.any, rays.shadow, static_cast<int>(t), repeat, &shadow_hits) : 0.0;
-        const double mir = want_mirror ? mrays(k.closest, rays.mirror, static_cast<int>(t), repeat, nullptr) : 0.0;
-        const double pkt = want_packets && k.closest_packets
-                               ? mrays(k.closest_packets, rays.camera, static_cast<int>(t), repeat, nullptr)
-                               : 0.0;
-        row.insert(row.end(), {cam, sh, mir, pkt});
-        std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", cam, sh, mir, pkt);
-        (void)camera_hits;
-        (void)shadow_hits;
-      }
+      for (const std::vector<double>& r : runs[k]) row.push_back(*std::max_element(r.begin(), r.end()));
+      std::printf("%-13s %8.3f %9.1f %9.1f", kernels[k].name.c_str(), kernels[k].build_seconds,
+                  kernels[k].bytes_per_triangle, kernels[k].peak_bytes_per_triangle);
+      for (size_t ti = 0; ti < thread_counts.size(); ++ti)
+        std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", row[4 * ti], row[4 * ti + 1], row[4 * ti + 2],
+                    row[4 * ti + 3]);
       std::printf("\n");
       results.push_back(row);
-      auto it = std::find_if(scaling.begin(), scaling.end(), [&](const auto& e) { return e.first == k.name; });
-      if (it == scaling.end()) it = scaling.insert(scaling.end(), {k.name, {}});
+      auto it = std::find_if(scaling.begin(), scaling.end(), [&](const auto& e) { return e.first == kernels[k].name; });
+      if (it == scaling.end()) it = scaling.insert(scaling.end(), {kernels[k].name, {}});
       it->second.push_back({tris, {row[0], row[2]}});
     }
     // kernels: glint-bvh, glint-kernel, glint-embree, embree, embree-robust.
@@ -528,16 +538,24 @@ int main(int argc, char** argv) {
         std::printf("%-13s %8.2f %9.2f %9.2f", row == 0 ? "bvh/embree" : "kernel/embree",
                     ours.build_seconds / ref.build_seconds, ours.bytes_per_triangle / ref.bytes_per_triangle,
                     ours.peak_bytes_per_triangle / ref.peak_bytes_per_triangle);
-        for (size_t i = 0; i < thread_counts.size(); ++i) {
-          const double* a = &results[row][4 * i];
-          const double* b = &results[3][4 * i];
-          auto ratio = [](double x, double y) { return y > 0 ? x / y : 0.0; };
-          std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", ratio(a[0], b[0]), ratio(a[1], b[1]), ratio(a[2], b[2]),
-                      ratio(a[3], b[3]));
-        }
+        // Each ray ratio: the median over the rounds of that round's ratio
+        // (a round's two runs were taken seconds apart).
+        auto ratio = [&](size_t column) {
+          std::vector<double> r;
+          for (int round = 0; round < repeat; ++round) {
+            const double embree = runs[3][column][round];
+            if (embree > 0) r.push_back(runs[row][column][round] / embree);
+          }
+          return median(r);
+        };
+        for (size_t i = 0; i < thread_counts.size(); ++i)
+          std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", ratio(4 * i), ratio(4 * i + 1), ratio(4 * i + 2),
+                      ratio(4 * i + 3));
         std::printf("\n");
       }
-      std::printf("(build and bytes: lower is better; rays: higher; cam-pkt: 16-ray packets, ours / Embree)\n");
+      std::printf(
+          "(build and bytes: lower is better; rays: higher, each the median over the rounds of the round's "
+          "ratio; cam-pkt: 16-ray packets, ours / Embree)\n");
     }
     std::printf("\n");
     std::fflush(stdout);
