@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -122,8 +123,8 @@ TEST(PngStream, RendererAnnouncesFinalRowsInOrder) {
         const std::lock_guard lock(mutex);
         const int from = announced.empty() ? 0 : announced.back();
         const size_t begin = 3 * size_t(from) * size_t(image.width), end = 3 * size_t(rows) * size_t(image.width);
-        rows_matched = rows_matched &&
-                       std::memcmp(image.rgb.data() + begin, whole.rgb.data() + begin, (end - begin) * sizeof(float)) == 0;
+        rows_matched = rows_matched && std::memcmp(image.rgb.data() + begin, whole.rgb.data() + begin,
+                                                   (end - begin) * sizeof(float)) == 0;
         announced.push_back(rows);
       };
       RenderStats stats;
@@ -169,12 +170,38 @@ TEST(PngStream, FrameJobWritesTheSameBytesAsWriteImage) {
     FrameJob job;
     job.output.path = streamed.string();
     job.render.threads = threads;
-    const FrameReport report = render_frame_to_files(scene, [] { return uint64_t{0}; }, job);
+    const FrameReport report = render_frame_to_files(
+        scene, [] { return uint64_t{0}; }, job);
     EXPECT_TRUE(report.complete);
+    EXPECT_TRUE(report.png_streamed);  // else this would compare write_image with itself
     EXPECT_EQ(read_file(streamed), read_file(expected)) << threads << " threads";
   }
   fs::remove(expected);
   fs::remove(streamed);
+}
+
+// Other outputs are written after the render: a PNG with passes (several
+// files) and the float formats.
+TEST(PngStream, FrameJobStreamsOnlyAPngWithoutPasses) {
+  const Scene scene = small_scene(false);
+  struct Case {
+    const char* name;
+    std::vector<Pass> passes;
+  };
+  for (const Case& c :
+       {Case{"plain.png", {}}, Case{"passes.png", {Pass::diffuse}}, Case{"plain.exr", {}}, Case{"plain.pfm", {}}}) {
+    FrameJob job;
+    job.output.path = temp_path(c.name).string();
+    job.output.passes = c.passes;
+    job.render.threads = 1;
+    const FrameReport report = render_frame_to_files(
+        scene, [] { return uint64_t{0}; }, job);
+    EXPECT_TRUE(report.complete) << c.name;
+    EXPECT_EQ(report.png_streamed, std::string_view(c.name) == "plain.png") << c.name;
+    EXPECT_TRUE(fs::exists(job.output.path)) << c.name;
+    fs::remove(job.output.path);
+    for (const Pass pass : c.passes) fs::remove(pass_file_name(job.output.path, pass));
+  }
 }
 
 }  // namespace

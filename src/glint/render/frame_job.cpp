@@ -171,6 +171,7 @@ FrameReport render_frame_to_files(const Scene& scene, const std::function<uint64
     return report;
   }
   const auto write_start = Clock::now();
+  report.png_streamed = png.has_value();
   if (png) png->write(job.output.path);  // what write_outputs writes for a PNG without passes
   else write_outputs(f.image, f.passes, job.output);
   report.write_seconds = seconds_since(write_start);

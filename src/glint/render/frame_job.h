@@ -76,6 +76,9 @@ struct FrameReport {
   size_t pixels = 0;  // width * height (adaptive sampling refines some of them)
   RenderStats stats;  // of this run (a resumed render counts only the tiles it rendered)
   double build_seconds = 0, write_seconds = 0;
+  // The PNG was compressed band by band while the render ran (a PNG without
+  // passes): write_seconds is then the file's write alone.
+  bool png_streamed = false;
 };
 
 // Renders `scene` (one frame's, settings final) into job.output. `key()`
@@ -100,7 +103,8 @@ struct FrameEvents {
 // frame that did not complete (cancelled) and returns false; true when every
 // frame is done. `inputs_digest()` gives scene_inputs_digest(...) of
 // `scene`; asked at most once, when a frame's resume key is needed.
-bool render_frames(const Scene& scene, const std::function<uint64_t()>& inputs_digest, const std::vector<FrameOutput>& plan, bool skip_existing,
-                   const FrameJob& job, const FrameEvents& events = {});
+bool render_frames(const Scene& scene, const std::function<uint64_t()>& inputs_digest,
+                   const std::vector<FrameOutput>& plan, bool skip_existing, const FrameJob& job,
+                   const FrameEvents& events = {});
 
 }  // namespace glint
