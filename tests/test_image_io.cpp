@@ -18,6 +18,7 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "glint/error.h"
@@ -773,6 +774,33 @@ TEST_F(ImageIo, BigPngHasTheCodesOfPpm) {
     ASSERT_EQ(png.height, image.height);
     EXPECT_EQ(png.rgb, ppm.rgb);
   }
+}
+
+// The sides each format holds: every valid size in a PNG (libpng alone stops
+// at 1,000,000 pixels), at most 65535 in a JPEG, whose header has 16 bits for
+// each (stb_image_write would write the side modulo 65536: a wrong image).
+TEST_F(ImageIo, WidestImagesEachFormatHolds) {
+  Image wide(static_cast<int>(glint::kMaxImageDimension), 1);
+  for (std::size_t i = 0; i < wide.rgb.size(); ++i) wide.rgb[i] = static_cast<float>(i % 251) / 250.0f;
+  glint::write_image(wide, dir_ / "wide.png");
+  glint::write_image(wide, dir_ / "wide.ppm");
+  const Image png = glint::read_image(dir_ / "wide.png"), ppm = glint::read_image(dir_ / "wide.ppm");
+  EXPECT_EQ(png.width, wide.width);
+  EXPECT_EQ(png.rgb, ppm.rgb);
+  Image tall(1, static_cast<int>(glint::kMaxImageDimension));
+  glint::write_image(tall, dir_ / "tall.png");
+  EXPECT_EQ(glint::read_image(dir_ / "tall.png").height, tall.height);
+
+  glint::write_image(Image(65535, 2), dir_ / "widest.jpg");
+  EXPECT_EQ(glint::read_image(dir_ / "widest.jpg").width, 65535);
+  for (const auto& [w, h] : {std::pair{65536, 1}, std::pair{1, 65536}}) {
+    const Image too_big(w, h);
+    const std::string what = expect_write_error(too_big, dir_ / "big.jpg");
+    EXPECT_NE(what.find("a JPEG is at most 65535 pixels wide and high"), std::string::npos) << what;
+    EXPECT_THROW(glint::encode_image(too_big, ImageFormat::jpg), glint::Error);
+    EXPECT_NO_THROW(glint::encode_image(too_big, ImageFormat::png));
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "big.jpg"));
 }
 
 TEST_F(ImageIo, DataEncodingSkipsTheSrgbCurve) {

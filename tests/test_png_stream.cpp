@@ -180,6 +180,27 @@ TEST(PngStream, FrameJobWritesTheSameBytesAsWriteImage) {
   fs::remove(streamed);
 }
 
+// A size the output's format cannot hold is an error before the render.
+TEST(PngStream, FrameJobRefusesAJpegTooWideBeforeRendering) {
+  Scene scene = small_scene(false);
+  scene.render.width = 65536;
+  scene.render.height = 1;
+  FrameJob job;
+  job.output.path = temp_path("wide.jpg").string();
+  bool rendered = false;
+  job.render.progress = [&rendered](double) { rendered = true; };
+  try {
+    render_frame_to_files(
+        scene, [] { return uint64_t{0}; }, job);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              job.output.path + ": cannot write: a JPEG is at most 65535 pixels wide and high, not 65536x1");
+  }
+  EXPECT_FALSE(rendered);
+  EXPECT_FALSE(fs::exists(job.output.path));
+}
+
 // Other outputs are written after the render: a PNG with passes (several
 // files) and the float formats.
 TEST(PngStream, FrameJobStreamsOnlyAPngWithoutPasses) {

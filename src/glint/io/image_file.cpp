@@ -262,6 +262,9 @@ bool encode_png_into(const Image& image, const WriteOptions& options, const std:
     throw std::runtime_error(sink.message);
   }
   png_set_write_fn(png, &sink, png_append, png_flush_nothing);
+  // libpng refuses sides over 1,000,000 pixels unless told otherwise; an
+  // image may have up to kMaxImageDimension.
+  png_set_user_limits(png, static_cast<png_uint_32>(kMaxImageDimension), static_cast<png_uint_32>(kMaxImageDimension));
   png_set_compression_level(png, 1);
   png_set_compression_strategy(png, Z_RLE);
   png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
@@ -610,6 +613,14 @@ std::optional<ImageFormat> image_format_for_path(const fs::path& path) {
   return std::nullopt;
 }
 
+std::optional<std::string> image_size_limit_reason(ImageFormat format, int width, int height) {
+  constexpr int kMaxJpegSide = 65535;
+  if (format == ImageFormat::jpg && (width > kMaxJpegSide || height > kMaxJpegSide))
+    return "a JPEG is at most " + std::to_string(kMaxJpegSide) + " pixels wide and high, not " + std::to_string(width) +
+           "x" + std::to_string(height);
+  return std::nullopt;
+}
+
 std::string_view supported_image_extensions() { return ".png, .jpg, .ppm, .pfm, .exr, .hdr"; }
 
 bool is_8bit_format(ImageFormat format) {
@@ -630,6 +641,7 @@ ImageFormat check_image_target(const Image& image, const fs::path& path) {
     fail_write(path, "image has " + std::to_string(image.rgb.size()) + " floats, expected 3*" +
                          std::to_string(image.width) + "*" + std::to_string(image.height));
   }
+  if (auto reason = image_size_limit_reason(*format, image.width, image.height)) fail_write(path, *reason);
   const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::error_code ec;
   if (!fs::exists(folder, ec)) fail_write(path, "folder '" + folder.string() + "' does not exist");
@@ -713,6 +725,7 @@ std::vector<unsigned char> encode_image(const Image& image, ImageFormat format, 
   if (!valid_image_size(image.width, image.height) ||
       image.rgb.size() != 3 * static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
     throw Error("image: invalid size " + std::to_string(image.width) + "x" + std::to_string(image.height));
+  if (auto reason = image_size_limit_reason(format, image.width, image.height)) throw Error("image: " + *reason);
   switch (format) {
     case ImageFormat::ppm: return encode_ppm(image, options);
     case ImageFormat::pfm: return encode_pfm(image);

@@ -31,6 +31,11 @@ struct WriteOptions {
   bool data = false;
 };
 
+// Why `format` cannot hold an image of width x height, or nullopt: a JPEG
+// is at most 65535 pixels a side (its header has 16 bits for each). Any
+// valid_image_size fits the other formats.
+std::optional<std::string> image_size_limit_reason(ImageFormat format, int width, int height);
+
 // True for the formats that store 8-bit codes (.png .jpg .ppm); the others
 // (.pfm .exr .hdr) store linear values and are never exposed or tone-mapped.
 bool is_8bit_format(ImageFormat format);

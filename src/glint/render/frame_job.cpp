@@ -141,6 +141,9 @@ FrameReport render_frame_to_files(const Scene& scene, const std::function<uint64
   check_output_path(job.output.path);
   job.output.check();
   const RenderSettings& r = scene.render;
+  // An image its format cannot hold is an error before the render, not after.
+  if (auto reason = image_size_limit_reason(*image_format_for_path(job.output.path), r.width, r.height))
+    throw Error(job.output.path + ": cannot write: " + *reason);
   const std::filesystem::path resume_path = resume_path_for(job.output.path);
   FrameStart f = start_frame(r, key, job, resume_path);
 
