@@ -27,6 +27,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The frames here are never resumed or stopped: their key is never asked.
+uint64_t no_resume_key() { return 0; }
+
 fs::path temp_path(const std::string& name) {
   return fs::path(::testing::TempDir()) / ("glint-png-stream-" + std::to_string(::getpid()) + "-" + name);
 }
@@ -170,8 +173,7 @@ TEST(PngStream, FrameJobWritesTheSameBytesAsWriteImage) {
     FrameJob job;
     job.output.path = streamed.string();
     job.render.threads = threads;
-    const FrameReport report = render_frame_to_files(
-        scene, [] { return uint64_t{0}; }, job);
+    const FrameReport report = render_frame_to_files(scene, no_resume_key, job);
     EXPECT_TRUE(report.complete);
     EXPECT_TRUE(report.png_streamed);  // else this would compare write_image with itself
     EXPECT_EQ(read_file(streamed), read_file(expected)) << threads << " threads";
@@ -190,8 +192,7 @@ TEST(PngStream, FrameJobRefusesAJpegTooWideBeforeRendering) {
   bool rendered = false;
   job.render.progress = [&rendered](double) { rendered = true; };
   try {
-    render_frame_to_files(
-        scene, [] { return uint64_t{0}; }, job);
+    render_frame_to_files(scene, no_resume_key, job);
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -215,8 +216,7 @@ TEST(PngStream, FrameJobStreamsOnlyAPngWithoutPasses) {
     job.output.path = temp_path(c.name).string();
     job.output.passes = c.passes;
     job.render.threads = 1;
-    const FrameReport report = render_frame_to_files(
-        scene, [] { return uint64_t{0}; }, job);
+    const FrameReport report = render_frame_to_files(scene, no_resume_key, job);
     EXPECT_TRUE(report.complete) << c.name;
     EXPECT_EQ(report.png_streamed, std::string_view(c.name) == "plain.png") << c.name;
     EXPECT_TRUE(fs::exists(job.output.path)) << c.name;
