@@ -15,6 +15,7 @@
 #include <istream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "glint/error.h"
@@ -338,6 +339,26 @@ TEST(ObjReader, ErrorsAreTheSameForAnyNumberOfChunks) {
       }
     }
     EXPECT_NE(first.find("t.obj:101"), std::string::npos) << first;
+  }
+}
+
+// The statements tinyobjloader rejects and the check lets pass are reported
+// at the first corner rejected.
+TEST(ObjReader, LibraryRejectionsNameTheirCorner) {
+  const std::string base = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"f 1// 2// 3//\n", "t.obj:6:3: face with a vertex index of 0 or not a number"},
+      {"f 1 2/1/1/1 3\n", "t.obj:6:5: face with a vertex index of 0 or not a number"},
+      {"f  1 2 3//\n", "t.obj:6:8: face with a vertex index of 0 or not a number"},
+      {"l 1 2//\n", "t.obj:6:5: line or point with a vertex index of 0 or not a number"},
+  };
+  for (const auto& [statement, message] : cases) {
+    try {
+      read_obj(base + statement, "t.obj", nullptr, {1, 1});
+      ADD_FAILURE() << "no error for " << statement;
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), message) << statement;
+    }
   }
 }
 

@@ -147,6 +147,7 @@ struct Event {
 struct LibraryError {
   int line = 0;  // in the chunk; 0: none
   enum Kind : uint8_t { face, line_or_point, vw } kind = face;
+  int column = 0;  // of the first corner it rejects (faces, lines, points); 0: the statement's
 };
 
 // What a chunk holds, or what comes before it: v, vt, vn statements,
@@ -347,16 +348,20 @@ void parse_lines(Lines& lines, const Counts& before, ObjData& out, Chunk& c) {
       const char* p = t.data() + 1;
       corners.clear();
       bool library_error = false;
+      int library_error_column = 0;
       for (std::string_view tok = next_token(p, end); !tok.empty(); tok = next_token(p, end)) {
         std::array<int32_t, 3> index;
+        const bool earlier = library_error;
         if (!read_corner(tok, counts, index.data(), library_error)) {
           c.check_problem = true;
           return;
         }
+        if (library_error && !earlier) library_error_column = static_cast<int>(tok.data() - line.data()) + 1;
         corners.push_back(index);
       }
       if (library_error && c.library_error.line == 0)
-        c.library_error = {line_number, c0 == 'f' ? LibraryError::face : LibraryError::line_or_point};
+        c.library_error = {line_number, c0 == 'f' ? LibraryError::face : LibraryError::line_or_point,
+                           library_error_column};
       if (c0 != 'f') {
         c.events.push_back({c0 == 'l' ? Event::line : Event::points, face, {}, corners.size()});
       } else if (corners.size() < 3) {
@@ -592,9 +597,9 @@ ObjData read_obj(std::string_view text, const std::string& file, tinyobj::Materi
     const LibraryError& e = chunks[i].library_error;
     if (e.line == 0) continue;
     const int line = before[i].lines + e.line;
-    if (e.kind == LibraryError::face) fail(file, "face with a vertex index of 0 or not a number", line);
+    if (e.kind == LibraryError::face) fail(file, "face with a vertex index of 0 or not a number", line, e.column);
     if (e.kind == LibraryError::line_or_point)
-      fail(file, "line or point with a vertex index of 0 or not a number", line);
+      fail(file, "line or point with a vertex index of 0 or not a number", line, e.column);
     fail(file, "cannot read OBJ: Failed parse `vw' line. joint_id is negative. line " + std::to_string(line) + ".)",
          line);
   }
