@@ -515,9 +515,8 @@ int main(int argc, char** argv) {
           out[3].push_back(want_packets && kernel.closest_packets ? mrays(kernel.closest_packets, rays.camera, t)
                                                                   : 0.0);
         }
-    std::vector<std::vector<double>> results;  // each kernel's best round
     for (size_t k = 0; k < kernels.size(); ++k) {
-      std::vector<double> row;
+      std::vector<double> row;  // the kernel's best round
       for (const std::vector<double>& r : runs[k]) row.push_back(*std::max_element(r.begin(), r.end()));
       std::printf("%-13s %8.3f %9.1f %9.1f", kernels[k].name.c_str(), kernels[k].build_seconds,
                   kernels[k].bytes_per_triangle, kernels[k].peak_bytes_per_triangle);
@@ -525,7 +524,6 @@ int main(int argc, char** argv) {
         std::printf(" | %5s %7.2f %7.2f %7.2f %8.2f", "", row[4 * ti], row[4 * ti + 1], row[4 * ti + 2],
                     row[4 * ti + 3]);
       std::printf("\n");
-      results.push_back(row);
       auto it = std::find_if(scaling.begin(), scaling.end(), [&](const auto& e) { return e.first == kernels[k].name; });
       if (it == scaling.end()) it = scaling.insert(scaling.end(), {kernels[k].name, {}});
       it->second.push_back({tris, {row[0], row[2]}});
