@@ -288,6 +288,37 @@ TEST(MeshFileObj, PolygonsOfMoreThan255Vertices) {
   expect_vec(corner_position(m, n - 2, 0), 5, 5, 0);
 }
 
+// An OBJ of 20 MB is read in pieces on all cores (obj.cpp, 8 MiB each):
+// every vertex and face must come out whole and in order.
+TEST(MeshFileObj, ABigFileReadInPiecesLoadsWhole) {
+  const TempDir dir;
+  constexpr int kSide = 600;  // 360,000 vertices, 717,602 triangles, about 20 MB
+  std::string text;
+  text.reserve(size_t{22} << 20);
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) text += "v " + std::to_string(i) + " " + std::to_string(j) + " 0.5\n";
+  auto vertex = [](int i, int j) { return static_cast<uint32_t>(j * kSide + i); };
+  std::vector<uint32_t> expected;
+  for (int j = 0; j + 1 < kSide; ++j)
+    for (int i = 0; i + 1 < kSide; ++i) {
+      for (uint32_t v :
+           {vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1)})
+        expected.push_back(v);
+      text += "f " + std::to_string(vertex(i, j) + 1) + " " + std::to_string(vertex(i + 1, j) + 1) + " " +
+              std::to_string(vertex(i + 1, j + 1) + 1) + "\nf " + std::to_string(vertex(i, j) + 1) + " " +
+              std::to_string(vertex(i + 1, j + 1) + 1) + " " + std::to_string(vertex(i, j + 1) + 1) + "\n";
+    }
+  ASSERT_GT(text.size(), size_t{16} << 20);  // three pieces or more
+  const MeshFile m = load_mesh_file(dir.write("big.obj", text));
+  ASSERT_EQ(m.positions.size(), size_t{kSide} * kSide);
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) {
+      const Vec3f& p = m.positions[vertex(i, j)];
+      ASSERT_TRUE(p.x == static_cast<float>(i) && p.y == static_cast<float>(j) && p.z == 0.5f) << i << " " << j;
+    }
+  EXPECT_EQ(m.indices, expected);
+}
+
 TEST(MeshFileObj, NegativeIndicesCountBack) {
   TempDir dir;
   const MeshFile m = load_mesh_file(dir.write("rel.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n"));
