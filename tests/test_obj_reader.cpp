@@ -160,28 +160,35 @@ std::string_view readable_text(const std::string& bytes) {
   return text;
 }
 
+// Both readers on one text (its materials in `folder`): the same result, or
+// both reject it. Counts it as compared or rejected.
+void expect_same_text_as_tinyobj(std::string_view text, const fs::path& folder, const std::string& name,
+                                 size_t& compared, size_t& rejected) {
+  const Reference ref = read_with_tinyobj(text, folder);
+  const TextProblem check = find_obj_bad_statement(text);
+  for (size_t chunks : {size_t{1}, size_t{3}}) {
+    MtlReader mtl(folder);
+    if (!ref.ok || check.line > 0) {
+      // glint rejected the file before (its check, or tinyobjloader's error).
+      EXPECT_THROW(read_obj(text, name, &mtl, {chunks, 2}), Error) << ref.err << check.message;
+      if (chunks == 1) ++rejected;
+      continue;
+    }
+    ObjData obj;
+    ASSERT_NO_THROW(obj = read_obj(text, name, &mtl, {chunks, 2}));
+    EXPECT_EQ(difference(ref, obj), "") << chunks << " chunks";
+    EXPECT_EQ(obj.bad_vertex_text.size(), scan_obj_nonfinite_text(text).size());
+    if (chunks == 1) ++compared;
+  }
+}
+
 // Both readers on one file: the same result, or both reject it.
 void expect_same_as_tinyobj(const fs::path& path, size_t& compared, size_t& rejected) {
   SCOPED_TRACE(path.string());
   const std::string bytes = slurp(path);
   const std::string_view text = readable_text(bytes);
   if (text.empty()) return;
-  const Reference ref = read_with_tinyobj(text, path.parent_path());
-  const TextProblem check = find_obj_bad_statement(text);
-  for (size_t chunks : {size_t{1}, size_t{3}}) {
-    MtlReader mtl(path.parent_path());
-    if (!ref.ok || check.line > 0) {
-      // glint rejected the file before (its check, or tinyobjloader's error).
-      EXPECT_THROW(read_obj(text, path.string(), &mtl, {chunks, 2}), Error) << ref.err << check.message;
-      if (chunks == 1) ++rejected;
-      continue;
-    }
-    ObjData obj;
-    ASSERT_NO_THROW(obj = read_obj(text, path.string(), &mtl, {chunks, 2}));
-    EXPECT_EQ(difference(ref, obj), "") << chunks << " chunks";
-    EXPECT_EQ(obj.bad_vertex_text.size(), scan_obj_nonfinite_text(text).size());
-    if (chunks == 1) ++compared;
-  }
+  expect_same_text_as_tinyobj(text, path.parent_path(), path.string(), compared, rejected);
 }
 
 TEST(ObjReader, ReadsEveryRepositoryObjAsTinyobjloaderDoes) {
@@ -390,6 +397,58 @@ namespace {
 // Numbers glint's check lets pass but tinyobjloader reads in its own way
 // ("+-5" and "nan" as no number: 0; an exponent above 214748364x: 0; the
 // v of "vt u v" is not checked at all): read as it read them.
+// The reader takes the common corner and number forms on a fast path and
+// everything else through the general one: each form, alone on its face or
+// number line, must read as tinyobjloader reads it (or fail as before).
+TEST(ObjReader, EveryCornerAndNumberFormReadsAsTinyobjloaderReadsIt) {
+  const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nvn 0 1 0\n";
+  const std::vector<std::string> faces = {"f 1 2 3",
+                                          "f 1 2 3 4",
+                                          "f\t1  2\t3 ",
+                                          "f 1/1 2/2 3/3",
+                                          "f 1//1 2//2 3//1",
+                                          "f 1/1/1 2/2/2 3/3/2",
+                                          "f 1/1 2//2 3/3/1",
+                                          "f 01 002 3",
+                                          "f -4 -3 -2",
+                                          "f +1 +2 +3",
+                                          "f 1 2 5",
+                                          "f 1 2 0",
+                                          "f 1/4 2/1 3/1",
+                                          "f 1//3 2//1 3//1",
+                                          "f 1/ 2/ 3/",
+                                          "f 1// 2// 3//",
+                                          "f 1/1/ 2/2/ 3/3/",
+                                          "f 1/1/1/1 2 3",
+                                          "f 1 2 3x",
+                                          "f 1 2 3#c",
+                                          "f 1 2 1234567890123456789",
+                                          "f 1 2 99999999999999999",
+                                          "f 1/-1 2/-2 3/-3",
+                                          "f 1//-1 2//-2 3//-2",
+                                          "f 1 2 3\r",
+                                          "f 1 2 3\v",
+                                          "f 1 2 -5",
+                                          "f 1 2 3 4 5 6 7 8 9"};
+  const std::vector<std::string> numbers = {
+      "v 0.5 -1 2",  "v .5 -.5 5.",    "v 1e3 -2E-2 3e+1",   "v -0 0 +0",   "v 1e40 1 1",
+      "v 1e-50 1 1", "v 0e5 1 1",      "v 1e9999999999 1 1", "v +-1 1 1",   "v 1 2 3x",
+      "v 1 2",       "v 1,5 2 3",      "v nan 1 1",          "v -inf 1 1",  "v 1 2 3 4",
+      "v 1\t2\t3",   "vn 0.25 -0.5 1", "vt 0.5 0.25",        "vt 1.5abc 2", "v 1.000000000000000000001 2 3",
+      "v 0x10 1 1",  "v 1e 2 3",       "v 1 2 3\r"};
+  size_t compared = 0, rejected = 0;
+  for (const std::string& face : faces) {
+    SCOPED_TRACE(face);
+    expect_same_text_as_tinyobj(head + face + "\n", ".", "t.obj", compared, rejected);
+  }
+  for (const std::string& number : numbers) {
+    SCOPED_TRACE(number);
+    expect_same_text_as_tinyobj(head + number + "\nf 1 2 3\n", ".", "t.obj", compared, rejected);
+  }
+  EXPECT_GE(compared, 25u);  // the forms both read
+  EXPECT_GE(rejected, 10u);  // and those both refuse
+}
+
 TEST(ObjReader, OddNumbersAreReadAsTinyobjloaderReadThem) {
   const std::string text =
       "v +-5 .5 5.\nv -0.0 +.5e1 1e-50\nv 1e9999999999 -0 +3\nv nan -inf INF\nv 1e40 2 3\n"

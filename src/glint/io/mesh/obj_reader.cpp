@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <optional>
@@ -109,6 +110,26 @@ inline bool read_number(std::string_view tok, double fallback, float& out, bool&
   return true;
 }
 
+// The common number of a v, vt or vn statement, read at `p` (blanks before
+// it skipped) straight to the separator after it, `p` then moved there:
+// read_number's first case without finding the token's end first (a number
+// never runs on into a separator, so fast_float stops where the token ends).
+// False, `p` unmoved, for anything else ('+', "nan", a zero or infinity
+// written with an exponent, text after the digits): read_number decides.
+inline bool read_plain_number(const char*& p, const char* end, float& out) {
+  const char* body = p < end && *p == '-' ? p + 1 : p;
+  if (!(body < end && (is_digit(*body) || *body == '.'))) return false;
+  double value = 0;
+  const auto r = fast_float::from_chars(p, end, value);
+  if (r.ec != std::errc() || (r.ptr < end && !is_separator(*r.ptr))) return false;
+  if ((value == 0 || std::isinf(value)) &&
+      std::string_view(p, static_cast<size_t>(r.ptr - p)).find_first_of("eE") != std::string_view::npos)
+    return false;
+  out = static_cast<float>(value);
+  p = r.ptr;
+  return true;
+}
+
 // What tinyobjloader reads of a token it does not check (the v of "vt u v"):
 // the number at its start, else `fallback`. It splits at blanks only.
 inline float lenient_number(std::string_view tok, double fallback) {
@@ -196,6 +217,39 @@ inline bool read_corner(std::string_view tok, const size_t counts[3], int32_t in
     part = part.substr(slash + 1);
     if (k == 2) library_error = true;  // a fourth part: tinyobjloader fails on it
   }
+  return true;
+}
+
+// The common corners "v", "v/t", "v//n" and "v/t/n" of positive indices in
+// range, read at `p` straight to the separator after them, `p` then moved
+// there: what read_corner makes of them, without finding the token's end
+// and its slashes first. False, `p` unmoved, for anything else (signs, "v/",
+// a fourth part, an index of 0, out of range or of over 18 digits):
+// read_corner decides.
+inline bool read_plain_corner(const char*& p, const char* end, const size_t counts[3], int32_t index[3]) {
+  const char* q = p;
+  auto number = [&](int k) {
+    const char* start = q;
+    uint64_t value = 0;
+    while (q < end && is_digit(*q) && q - start < 18) value = value * 10 + static_cast<unsigned>(*q++ - '0');
+    if (q == start || value == 0 || value > counts[k]) return false;
+    index[k] = static_cast<int32_t>(value - 1);
+    return true;
+  };
+  index[1] = index[2] = -1;
+  if (!number(0)) return false;
+  if (q < end && *q == '/') {
+    ++q;
+    if (q < end && *q != '/' && !number(1)) return false;
+    if (q < end && *q == '/') {
+      ++q;
+      if (!number(2)) return false;
+    } else if (index[1] < 0) {
+      return false;  // "v/"
+    }
+  }
+  if (q < end && !is_separator(*q)) return false;
+  p = q;
   return true;
 }
 
@@ -313,6 +367,8 @@ void parse_lines(Lines& lines, const Counts& before, ObjData& out, Chunk& c) {
       const size_t needed = kind == kTexcoord ? 1 : 3;
       float value[3] = {0, 0, 0};
       for (size_t k = 0; k < needed; ++k) {
+        while (p < end && is_separator(*p)) ++p;
+        if (read_plain_number(p, end, value[k])) continue;
         const std::string_view tok = next_token(p, end);
         bool nonfinite = false;
         if (tok.empty() || !read_number(tok, 0.0, value[k], nonfinite)) {
@@ -349,8 +405,15 @@ void parse_lines(Lines& lines, const Counts& before, ObjData& out, Chunk& c) {
       corners.clear();
       bool library_error = false;
       int library_error_column = 0;
-      for (std::string_view tok = next_token(p, end); !tok.empty(); tok = next_token(p, end)) {
+      for (;;) {
+        while (p < end && is_separator(*p)) ++p;
+        if (p == end) break;
         std::array<int32_t, 3> index;
+        if (read_plain_corner(p, end, counts, index.data())) {
+          corners.push_back(index);
+          continue;
+        }
+        const std::string_view tok = next_token(p, end);
         const bool earlier = library_error;
         if (!read_corner(tok, counts, index.data(), library_error)) {
           c.check_problem = true;
