@@ -367,7 +367,10 @@ mpi::Prepared prepare_on_rank(const RenderArgs& args) {
   p.inputs_digest = scene_inputs_digest(read_file(args.scene_path), p.scene);
   p.plan = plan_frames(p.scene, args.output_path, args.frames);
   apply_overrides(args, p.scene.render);
-  for (const FrameOutput& out : p.plan) check_output_path(out.path);
+  for (const FrameOutput& out : p.plan) {
+    check_output_path(out.path);
+    check_image_fits(out.path, p.scene.render);  // a frame split in tiles over ranks is written after its render
+  }
   p.job = frame_job(args);
   return p;
 }

@@ -49,6 +49,15 @@ case $test_name in
     [ "$(grep -c '^error: ' log)" -eq 1 ] || fail "expected one error line"
     grep -q '^error: bad.json:1:' log || fail "the error does not point into the scene"
     [ ! -e out.png ] || fail "an image was written" ;;
+  jpeg-too-wide)  # a frame split in tiles whose JPEG cannot hold it: an error before the render
+    # Rendered first, these 7 million pixels at 10000 spp would take hours: run's deadline fails them.
+    run "${mpirun[@]}" "$glint" render "$showcase" --width 70000 --height 100 --spp 10000 -o out.jpg 2> log; rc=$?
+    cat log
+    [ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "exit $rc (124: timed out, so it rendered)"
+    [ "$(grep -c '^error: ' log)" -eq 1 ] || fail "expected one error line"
+    grep -q '^error: out.jpg: cannot write: a JPEG is at most 65535 pixels wide and high, not 70000x100' log ||
+      fail "the error does not name the JPEG's limit"
+    [ ! -e out.jpg ] || fail "an image was written" ;;
   rank-dies)  # rank 1 dies after its first frame: the job fails fast, naming it;
               # written frames stay, --skip-existing renders only the missing ones
     # Frames slow enough (~0.2 s each) that the job ends before rank 0 renders them all.

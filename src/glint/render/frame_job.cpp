@@ -110,6 +110,13 @@ void check_output_path(const std::string& path) {
     throw Error(path + ": output folder " + out_dir.string() + " does not exist");
 }
 
+void check_image_fits(const std::string& path, const RenderSettings& render) {
+  const std::optional<ImageFormat> format = image_format_for_path(path);
+  if (!format) return;  // check_output_path's error
+  if (auto reason = image_size_limit_reason(*format, render.width, render.height))
+    throw Error(path + ": cannot write: " + *reason);
+}
+
 void OutputFiles::check() const {
   if (layered && image_format_for_path(path) != ImageFormat::exr)
     throw Error(path + ": --passes-layered writes one multi-layer EXR: the output must be .exr");
@@ -141,9 +148,7 @@ FrameReport render_frame_to_files(const Scene& scene, const std::function<uint64
   check_output_path(job.output.path);
   job.output.check();
   const RenderSettings& r = scene.render;
-  // An image its format cannot hold is an error before the render, not after.
-  if (auto reason = image_size_limit_reason(*image_format_for_path(job.output.path), r.width, r.height))
-    throw Error(job.output.path + ": cannot write: " + *reason);
+  check_image_fits(job.output.path, r);
   const std::filesystem::path resume_path = resume_path_for(job.output.path);
   FrameStart f = start_frame(r, key, job, resume_path);
 

@@ -45,6 +45,11 @@ bool frame_done(const std::filesystem::path& output);
 // folder that exists.
 void check_output_path(const std::string& path);
 
+// Throws glint::Error("<path>: cannot write: ...") when `path`'s format
+// cannot hold an image of the render's size (a JPEG is at most 65535 pixels
+// a side): checked before a render, not after it.
+void check_image_fits(const std::string& path, const RenderSettings& render);
+
 // Where and how one frame's images are written.
 struct OutputFiles {
   std::string path;          // the image; each pass beside it, OUT.<pass>.<ext>
