@@ -394,9 +394,6 @@ TEST(ObjReader, NonFiniteVertexTextsAtTheirPlace) {
 namespace glint::mesh_io {
 namespace {
 
-// Numbers glint's check lets pass but tinyobjloader reads in its own way
-// ("+-5" and "nan" as no number: 0; an exponent above 214748364x: 0; the
-// v of "vt u v" is not checked at all): read as it read them.
 // The reader takes the common corner and number forms on a fast path and
 // everything else through the general one: each form, alone on its face or
 // number line, must read as tinyobjloader reads it (or fail as before).
@@ -449,6 +446,9 @@ TEST(ObjReader, EveryCornerAndNumberFormReadsAsTinyobjloaderReadsIt) {
   EXPECT_GE(rejected, 10u);  // and those both refuse
 }
 
+// Numbers glint's check lets pass but tinyobjloader reads in its own way
+// ("+-5" and "nan" as no number: 0; an exponent above 214748364x: 0; the
+// v of "vt u v" is not checked at all): read as it read them.
 TEST(ObjReader, OddNumbersAreReadAsTinyobjloaderReadThem) {
   const std::string text =
       "v +-5 .5 5.\nv -0.0 +.5e1 1e-50\nv 1e9999999999 -0 +3\nv nan -inf INF\nv 1e40 2 3\n"

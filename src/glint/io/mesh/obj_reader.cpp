@@ -78,28 +78,11 @@ std::optional<double> tinyobj_number(std::string_view s) {
   return negative ? -value : value;
 }
 
-// A number find_obj_bad_statement accepts, as tinyobjloader reads it
+// A number find_obj_bad_statement accepts that read_plain_number (below)
+// does not take ('+', "nan", exponents), as tinyobjloader reads it
 // (`fallback` where it reads none: "nan", "inf"). False: not a number.
 // `nonfinite_text` tells a "nan"/"inf" text (read as `fallback`).
 inline bool read_number(std::string_view tok, double fallback, float& out, bool& nonfinite_text) {
-  const char* p = tok.data();
-  const char* end = p + tok.size();
-  const bool plus = p < end && *p == '+';
-  if (plus) ++p;
-  const char* body = p < end && *p == '-' ? p + 1 : p;
-  // fast_float takes "-5" but tinyobjloader reads "+-5" as no number.
-  if (body < end && (is_digit(*body) || *body == '.') && !(plus && body != p)) {
-    double value = 0;
-    const auto r = fast_float::from_chars(p, end, value);
-    // 0 and inf from an exponent may be tinyobjloader's fallback instead.
-    const bool maybe_exponent_overflow =
-        (value == 0 || std::isinf(value)) && tok.find_first_of("eE") != std::string_view::npos;
-    if (r.ec == std::errc() && r.ptr == end && !maybe_exponent_overflow) {
-      out = static_cast<float>(value);
-      return true;
-    }
-  }
-  // Rare forms: what the check accepts, read as tinyobjloader would.
   if (!is_decimal_number(tok) && !parse_number(tok)) return false;
   const std::optional<double> value = tinyobj_number(tok);
   out = static_cast<float>(value ? *value : fallback);
@@ -111,11 +94,12 @@ inline bool read_number(std::string_view tok, double fallback, float& out, bool&
 }
 
 // The common number of a v, vt or vn statement, read at `p` (blanks before
-// it skipped) straight to the separator after it, `p` then moved there:
-// read_number's first case without finding the token's end first (a number
-// never runs on into a separator, so fast_float stops where the token ends).
-// False, `p` unmoved, for anything else ('+', "nan", a zero or infinity
-// written with an exponent, text after the digits): read_number decides.
+// it skipped) straight to the separator after it, `p` then moved there,
+// without finding the token's end first (a number never runs on into a
+// separator, so fast_float stops where the token ends). False, `p` unmoved,
+// for anything else ('+', "nan", a zero or infinity written with an
+// exponent, which may be tinyobjloader's fallback instead; text after the
+// digits): read_number decides.
 inline bool read_plain_number(const char*& p, const char* end, float& out) {
   const char* body = p < end && *p == '-' ? p + 1 : p;
   if (!(body < end && (is_digit(*body) || *body == '.'))) return false;
