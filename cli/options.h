@@ -36,8 +36,7 @@ Command add_explain_command(CLI::App& app);
 Command add_validate_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
 Command add_convert_command(CLI::App& app);
-#ifdef GLINT_HAVE_SERVE
+// Defined only when glint serve is built (main.cpp asks for it under GLINT_HAVE_SERVE).
 Command add_serve_command(CLI::App& app);
-#endif
 
 }  // namespace glint::cli

@@ -29,7 +29,9 @@ if(GLINT_SERVE)
     if(NOT GLINT_PLUGINS)  # else the plugin glint-serve.so (cmake/GlintProgram.cmake)
       target_link_libraries(glint_cli PRIVATE glint_serve)
     endif()
-    target_compile_definitions(glint_cli PRIVATE GLINT_HAVE_SERVE=1)
+    # On the two files that ask, not the whole program: building glint serve
+    # later (scripts/test.sh after scripts/setup.sh) recompiles only those.
+    set_property(SOURCE cli/main.cpp cli/serve.cpp APPEND PROPERTY COMPILE_DEFINITIONS GLINT_HAVE_SERVE=1)
   else()
     message(STATUS "cpp-httplib not found: glint is built without glint serve")
   endif()

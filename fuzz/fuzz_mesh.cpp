@@ -66,8 +66,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // A full /tmp is not a finding.
   if (!write_file(scratch_file, mesh) || !write_file(scratch_dir / "m.mtl", mtl)) return 0;
   try {
-    glint::MeshFile mesh = glint::load_mesh_file(scratch_file, kMemoryBudget);
-    (void)mesh;
+    const glint::MeshFile loaded = glint::load_mesh_file(scratch_file, kMemoryBudget);
+    (void)loaded;
   } catch (const glint::Error&) {
   }
   return 0;

@@ -1,26 +1,25 @@
 #!/usr/bin/env bash
-# One command to build glint and run every test (installs missing packages first).
-# The Release build treats warnings as errors (GLINT_WERROR).
+# One command to build glint and run every test (what CI runs: .ci/run).
+# Installs what is missing (scripts/install-deps.sh test), then two halves:
+#  1. Release with warnings as errors (GCC), in build/: configured exactly as
+#     scripts/setup.sh configures it, so whatever setup built is reused.
+#  2. clang with AddressSanitizer + UndefinedBehaviorSanitizer, asserts on and
+#     warnings as errors, in build-asan/ (scripts/build-sanitized.sh): the
+#     suite again, then every fuzz target over its seeds and regressions and a
+#     short mutation run (scripts/fuzz.sh smoke).
+# docs/testing.md says what each half costs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
+scripts/install-deps.sh test
+
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DGLINT_WERROR=ON
 cmake --build build
-ctest --test-dir build --output-on-failure -j "$(nproc)"
+ctest --test-dir build --output-on-failure --no-tests=error -j "$(nproc)"
 
-# The same suite again under AddressSanitizer + UndefinedBehaviorSanitizer
-# (portable code, no -march=native): any memory error, leak or UB fails it.
-# -Og instead of RelWithDebInfo's -O2: GCC optimizing instrumented code is
-# what costs (-O2 ~2.6x, -O1 ~1.6x the -Og build time on 2 cores) while the
-# tests run as fast. InstallAndBuildExample is left to the Release run above:
-# it builds an unsanitized consumer against the installed (sanitized) library.
-# Warnings are shown but not fatal here: GCC's flow analysis at -Og over
-# instrumented code gives false positives (-Wmaybe-uninitialized) that the
-# Release build, which is -Werror, does not.
-cmake -S . -B build-asan -G Ninja -DGLINT_SANITIZE=ON -DGLINT_NATIVE=OFF -DGLINT_WERROR=OFF \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-Og -g -DNDEBUG" \
-  -DGLINT_BUILD_BENCH=OFF
-cmake --build build-asan
+# InstallAndBuildExample is left to the Release half: it builds an
+# unsanitized consumer against the installed (sanitized) library.
+scripts/build-sanitized.sh
 ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:strict_init_order=1:check_initialization_order=1}" \
 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-  ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -E '^InstallAndBuildExample$'
+  ctest --test-dir build-asan --output-on-failure --no-tests=error -j "$(nproc)" -E '^InstallAndBuildExample$'
+scripts/fuzz.sh smoke

@@ -697,9 +697,11 @@ TEST_F(CliOptions, PixelFilterOverridesTheScene) {
         std::tuple{"mitchell", glint::FilterType::mitchell, glint::kMitchellRadius}}) {
     SCOPED_TRACE(name);
     const glint::Image got = render(std::string(name) + ".pfm", std::string("--spp 4 --pixel-filter ") + name);
+    // The filter as a plain local: clang 14 cannot capture a structured binding.
+    const glint::PixelFilter filter{type, radius};
     EXPECT_TRUE(same_pixels(got, library_render(path("scene.json"), [&](glint::Scene& s) {
                               s.render.samples_per_pixel = 4;
-                              s.render.pixel_filter = {type, radius};
+                              s.render.pixel_filter = filter;
                             })));
   }
   expect_failure("render scene.json -o {out} --pixel-filter gausian", "did you mean \"gaussian\"");

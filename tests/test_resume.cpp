@@ -4,8 +4,8 @@
 // real SIGINT to the glint command.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <pty.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,7 +19,6 @@
 #include <iterator>
 #include <span>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "glint/io/file_io.h"
@@ -27,8 +26,6 @@
 #include "glint/render/renderer.h"
 #include "glint/render/resume.h"
 #include "glint/render/tile_size.h"
-
-extern char** environ;
 
 namespace glint {
 namespace {
@@ -161,34 +158,47 @@ int run(const std::string& command) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// Starts argv[0] with stderr into `err`; returns its pid (or -1).
-pid_t spawn_with_stderr(std::vector<std::string> args, const fs::path& err) {
+// glint with its standard streams on a pseudo-terminal, so that it draws its
+// progress bar there: the bar is the event the test waits for.
+struct TerminalChild {
+  pid_t pid = -1;
+  int terminal = -1;  // the master side: what glint writes to its stderr
+};
+
+TerminalChild spawn_on_terminal(std::vector<std::string> args) {
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = -1;
-  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid = -1;
-  posix_spawn_file_actions_destroy(&actions);
-  return pid;
+  TerminalChild child;
+  child.pid = ::forkpty(&child.terminal, nullptr, nullptr, nullptr);
+  if (child.pid == 0) {
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return child;
 }
 
-// True once the process catches SIGINT (bit SIGINT-1 of SigCgt, in hex);
-// false if it exits first or `timeout` seconds pass.
-bool wait_for_sigint_handler(pid_t pid, double timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
-  while (std::chrono::steady_clock::now() < deadline) {
-    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-    std::string line;
-    while (std::getline(status, line))
-      if (line.rfind("SigCgt:", 0) == 0 && (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1) return true;
-    int wstatus = 0;
-    if (::waitpid(pid, &wstatus, WNOHANG) == pid) return false;  // gone (reaped: do not wait again)
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+// Reads the terminal until the progress bar shows at least `percent` (true)
+// or glint closes it (false: it ended first). Everything read is kept in `seen`.
+bool wait_for_progress(int terminal, int percent, std::string& seen) {
+  char buffer[512];
+  for (;;) {
+    const ssize_t n = ::read(terminal, buffer, sizeof buffer);
+    if (n <= 0) return false;  // EIO once the child has closed its side
+    seen.append(buffer, static_cast<size_t>(n));
+    // The bar's last update: "\r[####......]  25% ETA 3s".
+    const size_t close = seen.rfind("] ");
+    if (close != std::string::npos && seen.find('%', close) != std::string::npos) {
+      const int shown = std::atoi(seen.c_str() + close + 2);
+      if (shown >= percent && shown < 100) return true;
+    }
   }
-  return false;
+}
+
+// The rest of what glint writes, until it closes the terminal.
+void read_to_end(int terminal, std::string& seen) {
+  char buffer[512];
+  for (ssize_t n; (n = ::read(terminal, buffer, sizeof buffer)) > 0;) seen.append(buffer, static_cast<size_t>(n));
 }
 
 TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
@@ -200,35 +210,30 @@ TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
   // With passes: their finished tiles go into the resume file too.
   const std::string size = " --width 240 --height 135 --spp 64 --threads 2 --passes diffuse,depth";
   const std::string ref = (dir / "ref.pfm").string(), out = (dir / "out.pfm").string();
-  const auto ref_start = std::chrono::steady_clock::now();
   ASSERT_EQ(run(glint + " render " + scene + " -o " + ref + size + " --quiet"), 0);
-  const double ref_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ref_start).count();
 
-  // SIGINT half way through the render as timed here, counted from the moment
-  // glint has installed its handler (SigCgt in /proc/PID/status): a fixed
-  // delay from the launch sometimes landed before that on a loaded CI machine,
-  // and the default action killed glint without a word. The render must stop
-  // within a second of the signal.
-  const pid_t pid = spawn_with_stderr({glint, "render", scene, "-o", out, "--width", "240", "--height", "135", "--spp",
-                                       "64", "--threads", "2", "--passes", "diffuse,depth", "--quiet"},
-                                      dir / "err.txt");
-  ASSERT_GT(pid, 0);
-  const bool handler = wait_for_sigint_handler(pid, 30.0);
-  std::this_thread::sleep_for(std::chrono::duration<double>(std::max(0.05, ref_seconds / 2)));
+  // SIGINT once the progress bar shows a quarter of the tiles done: glint
+  // installs its handler before the render starts, and the signal lands
+  // part-way on any machine, however loaded. The render must stop within a
+  // second of the signal.
+  const TerminalChild child = spawn_on_terminal({glint, "render", scene, "-o", out, "--width", "240", "--height", "135",
+                                                 "--spp", "64", "--threads", "2", "--passes", "diffuse,depth"});
+  ASSERT_GT(child.pid, 0);
+  std::string seen;
+  const bool part_way = wait_for_progress(child.terminal, 25, seen);
   const auto start = std::chrono::steady_clock::now();
-  ::kill(pid, SIGINT);
+  if (part_way) ::kill(child.pid, SIGINT);
+  read_to_end(child.terminal, seen);
   int status = 0;
-  ::waitpid(pid, &status, 0);
+  ::waitpid(child.pid, &status, 0);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  ASSERT_TRUE(handler) << "glint never installed its SIGINT handler";
+  ::close(child.terminal);
   ASSERT_TRUE(WIFEXITED(status)) << "glint died of a signal";
-  if (WEXITSTATUS(status) == 0) GTEST_SKIP() << "the render finished before the signal (machine too fast)";
+  if (!part_way && WEXITSTATUS(status) == 0) GTEST_SKIP() << "the render finished before its bar showed 25%";
+  ASSERT_TRUE(part_way) << seen;
   EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT);  // the shell convention for "stopped by SIGINT"
   EXPECT_LT(seconds, 1.2);
-  std::ifstream err(dir / "err.txt");
-  std::string line;
-  std::getline(err, line);
-  EXPECT_EQ(line.rfind("error: interrupted: ", 0), 0u) << line;
+  EXPECT_NE(seen.find("error: interrupted: "), std::string::npos) << seen;
   ASSERT_TRUE(fs::exists(out));
   ASSERT_TRUE(fs::exists(out + ".glint-resume"));
 

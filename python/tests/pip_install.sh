@@ -2,10 +2,11 @@
 # pip install . from a clean copy of the sources into a new virtual
 # environment, exactly as docs/python.md says, offline; then import glint
 # from it and render. Touches nothing outside WORK (no system site-packages).
-# Usage: pip_install.sh SOURCE_DIR WORK_DIR
+# Usage: pip_install.sh SOURCE_DIR WORK_DIR [BUILD_DIR]
 set -euo pipefail
 src=$1
 work=$2
+build=${3:-}
 if ! /usr/bin/python3 -c 'import venv, ensurepip' 2>/dev/null; then
   echo "skipped: /usr/bin/python3 has no venv/ensurepip (Debian: apt-get install python3-venv)"
   exit 77
@@ -19,8 +20,15 @@ cd "$work"
 /usr/bin/python3 -m venv --system-site-packages venv
 # --no-build-isolation: Debian's setuptools from the system site-packages;
 # --no-index: never ask a package index (numpy is Debian's too).
-CMAKE_ARGS="${GLINT_PIP_CMAKE_ARGS:--DGLINT_LTO=OFF}" CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-2} \
-  venv/bin/pip install --no-build-isolation --no-index ./src
+# With BUILD_DIR, setup.py packages that build's module (GLINT_BUILD_DIR)
+# instead of compiling the library again: the venv, pip and the package's
+# files are the same; the compile from nothing is what `glint` itself builds.
+if [ -n "$build" ]; then
+  GLINT_BUILD_DIR="$build" venv/bin/pip install --no-build-isolation --no-index ./src
+else
+  CMAKE_ARGS="${GLINT_PIP_CMAKE_ARGS:--DGLINT_LTO=OFF}" CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-2} \
+    venv/bin/pip install --no-build-isolation --no-index ./src
+fi
 cd /  # not the sources: the installed package must be the one imported
 "$work/venv/bin/python" - <<'PY'
 import glint, numpy as np, os, sys

@@ -64,7 +64,7 @@ struct BinaryNode {
   uint32_t offset;  // leaf: first primitive (of the reordered refs); interior: second child
   uint32_t count;   // 0: interior
   uint32_t first;   // interior: first child
-  Bounds3 bounds() const { return Bounds3(Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])); }
+  Bounds3 bounds() const { return Bounds3{Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}; }
 };
 
 // 32 bytes: the primitive's float box with its id in the lo box's lane 3.
