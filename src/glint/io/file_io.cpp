@@ -16,14 +16,14 @@
 namespace glint {
 namespace fs = std::filesystem;
 
-namespace {
-
-[[noreturn]] void fail_write(const fs::path& path, const std::string& reason) {
+void fail_write(const fs::path& path, const std::string& reason) {
   throw Error(SourceLocation{path.string(), 0, 0}, "cannot write: " + reason);
 }
-[[noreturn]] void fail_read(const fs::path& path, const std::string& reason) {
+void fail_read(const fs::path& path, const std::string& reason) {
   throw Error(SourceLocation{path.string(), 0, 0}, "cannot read: " + reason);
 }
+
+namespace {
 
 std::string errno_message(int error) { return std::generic_category().message(error); }
 

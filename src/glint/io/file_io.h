@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace glint {
@@ -25,6 +26,11 @@ void write_file_atomically(const std::filesystem::path& target, std::span<const 
 
 // Throws glint::Error("<path>: cannot read: ...").
 std::vector<unsigned char> read_file(const std::filesystem::path& path);
+
+// The two errors above, for the readers and writers of file formats:
+// glint::Error("<path>: cannot write: <reason>") and "...: cannot read: ...".
+[[noreturn]] void fail_write(const std::filesystem::path& path, const std::string& reason);
+[[noreturn]] void fail_read(const std::filesystem::path& path, const std::string& reason);
 
 // While one lives, read_file notes each file it reads on this thread (and
 // for every enclosing log too): a cache of mesh files learns which other

@@ -43,13 +43,6 @@ namespace {
 
 using Bytes = std::vector<unsigned char>;
 
-[[noreturn]] void fail_write(const fs::path& path, const std::string& reason) {
-  throw Error(SourceLocation{path.string(), 0, 0}, "cannot write: " + reason);
-}
-[[noreturn]] void fail_read(const fs::path& path, const std::string& reason) {
-  throw Error(SourceLocation{path.string(), 0, 0}, "cannot read: " + reason);
-}
-
 // Runs `body`; any exception but a glint::Error becomes one naming `path`
 // (through `fail`: fail_read or fail_write), so callers see one error type.
 template <class Body>

@@ -1,10 +1,5 @@
 #include "glint/io/nff_file.h"
 
-// GCC 12 warns falsely about std::string concatenation at -O3 (GCC bug 105329).
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12
-#pragma GCC diagnostic ignored "-Wrestrict"
-#endif
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>

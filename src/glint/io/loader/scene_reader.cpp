@@ -3,11 +3,6 @@
 // scene names are found.
 #include "glint/io/loader/scene_reader.h"
 
-// GCC 12 warns falsely about std::string concatenation at -O3 (GCC bug 105329).
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12
-#pragma GCC diagnostic ignored "-Wrestrict"
-#endif
-
 #include <cstdio>
 #include <sstream>
 #include <system_error>

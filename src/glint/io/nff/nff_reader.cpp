@@ -2,11 +2,6 @@
 // into Parts (nff_parts.h). Every problem is an Error at file:line:col.
 #include "glint/io/nff/nff_parts.h"
 
-// GCC 12 warns falsely about std::string concatenation at -O3 (GCC bug 105329).
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12
-#pragma GCC diagnostic ignored "-Wrestrict"
-#endif
-
 #include <algorithm>
 #include <cctype>
 #include <charconv>
