@@ -208,7 +208,7 @@ TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
   const std::string glint = GLINT_CLI_PATH;
   const std::string scene = std::string(GLINT_SOURCE_DIR) + "/scenes/showcase.json";
   // With passes: their finished tiles go into the resume file too.
-  const std::string size = " --width 240 --height 135 --spp 64 --threads 2 --passes diffuse,depth";
+  const std::string size = " --width 240 --height 135 --spp 16 --threads 2 --passes diffuse,depth";
   const std::string ref = (dir / "ref.pfm").string(), out = (dir / "out.pfm").string();
   ASSERT_EQ(run(glint + " render " + scene + " -o " + ref + size + " --quiet"), 0);
 
@@ -217,7 +217,7 @@ TEST(ResumeCli, InterruptedThenResumedRenderIsBitIdentical) {
   // part-way on any machine, however loaded. The render must stop within a
   // second of the signal.
   const TerminalChild child = spawn_on_terminal({glint, "render", scene, "-o", out, "--width", "240", "--height", "135",
-                                                 "--spp", "64", "--threads", "2", "--passes", "diffuse,depth"});
+                                                 "--spp", "16", "--threads", "2", "--passes", "diffuse,depth"});
   ASSERT_GT(child.pid, 0);
   std::string seen;
   const bool part_way = wait_for_progress(child.terminal, 25, seen);
