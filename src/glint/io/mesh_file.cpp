@@ -1,11 +1,16 @@
-// Mesh files into MeshFile: the libraries parse, glint applies the contract.
+// Mesh files into MeshFile: each format's reader parses, glint applies the contract.
 // This file picks the reader by the file's extension; the readers live in
-// io/mesh/ (obj, mtl, obj_checks; ply_checks, gltf_checks, assimp_import;
-// mesh_builder, the back end they share; text_scan, common).
-// - .obj (+ .mtl): tinyobjloader (fastest measured; keeps the file's vertex
-//   indices). Its gaps are covered here: it reads "nan"/"inf" as 0 and "Kd 0.5"
-//   as red, and cannot say which MTL keys were given, so short scans of the
-//   text find those (and file:line for errors, on the error path only).
+// io/mesh/ (obj, obj_reader, obj_checks, mtl; ply_checks, gltf_checks,
+// assimp_import; mesh_builder, the back end they share; text_scan, common).
+// - .obj: glint's own reader (obj_reader.cpp), in parallel: the text cut into
+//   chunks at line ends, each parsed straight into its place in the arrays.
+//   It keeps the file's vertex indices and reads what tinyobjloader read
+//   before it (tests/test_obj_reader.cpp compares the two); a bad number or
+//   index is an error at file:line:col (obj_checks), a "nan"/"inf" vertex
+//   one only where a triangle uses it.
+// - .mtl: tinyobjloader. Its gaps are covered in mtl.cpp: it reads what is
+//   not a number as 0 and "Kd 0.5" as red, and cannot say which MTL keys were
+//   given, so a short scan of the text finds those (and file:line for errors).
 // - .ply, .gltf, .glb: assimp. Its PLY reader crashes, aborts or hangs on
 //   truncated or inconsistent files, so every PLY is checked first against its
 //   own header (counts against the file size, every record present, indices

@@ -64,7 +64,7 @@ std::vector<char> int_bytes(const std::vector<int>& values) {
 
 // Messages sent without waiting for the receiver: a blocking MPI_Send of a
 // tile's pixels spins until rank 0 takes them, which costs a worker's core
-// (docs/performance.md, "Tried and dropped"). Every message here is bytes
+// (docs/performance.md, "Lessons that guide the code"). Every message here is bytes
 // (MPI_BYTE on both sides).
 class Outbox {
  public:
