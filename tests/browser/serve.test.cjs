@@ -32,6 +32,7 @@ fs.writeFileSync(scenePath, JSON.stringify(base, null, 2));
 
 let server = null, url = null, context = null, page = null, userData = null;
 const pageRequests = [];  // every URL the first page asked for
+const pageErrors = [];    // console errors and failed requests of the first page
 const serverOutput = [];
 
 function startServer(scene) {
@@ -71,6 +72,9 @@ before(async () => {
   page = context.pages()[0] || (await context.newPage());
   page.on('dialog', (d) => d.accept());
   page.on('request', (r) => pageRequests.push(r.url()));
+  page.on('console', (m) => { if (m.type() === 'error') pageErrors.push(m.text()); });
+  page.on('pageerror', (e) => pageErrors.push(String(e)));
+  page.on('response', (r) => { if (r.status() >= 400) pageErrors.push(`${r.status()} ${r.url()}`); });
   await page.goto(url + '/');
 });
 
@@ -282,6 +286,12 @@ test('the page shows the scene as glint render draws it', async () => {
   // Everything the page needs comes from glint itself: no CDN, no network.
   assert.ok(pageRequests.length >= 4, pageRequests.join(' '));
   for (const r of pageRequests) assert.ok(r.startsWith(url + '/'), r);
+  // Loaded with nothing in the console: no missing icon, no failed request.
+  assert.deepEqual(pageErrors, []);
+  const svg = await fetch(url + '/favicon.svg');
+  assert.equal(svg.status, 200);
+  assert.equal(svg.headers.get('content-type'), 'image/svg+xml');
+  assert.equal((await fetch(url + '/favicon.ico')).status, 204);
 });
 
 test('the file stays the truth: in place, by rename, broken', async () => {

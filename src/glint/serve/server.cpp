@@ -309,6 +309,9 @@ void Server::Impl::routes() {
       res.set_content(std::string(asset.data, asset.size), std::string(asset.type));
     });
   }
+  // The page names its icon (favicon.svg); a client that asks for the
+  // conventional one anyway gets "no content" rather than an error.
+  http.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& res) { res.status = 204; });
   edit_routes();
   view_and_file_routes();
   frame_routes();
