@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # One command to build glint and run every test (what CI runs: .ci/run).
 # Installs what is missing (scripts/install-deps.sh test), then two halves:
-#  1. Release with warnings as errors (GCC), in build/: configured exactly as
-#     scripts/setup.sh configures it, so whatever setup built is reused.
+#  1. Release with warnings as errors (GCC), in build/ (scripts/build-release.sh,
+#     as scripts/setup.sh builds it), so whatever setup built is reused.
 #  2. clang with AddressSanitizer + UndefinedBehaviorSanitizer, asserts on and
 #     warnings as errors, in build-asan/ (scripts/build-sanitized.sh): the
 #     suite again, then every fuzz target over its seeds and regressions and a
@@ -12,8 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh test
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DGLINT_WERROR=ON
-cmake --build build
+scripts/build-release.sh
 ctest --test-dir build --output-on-failure --no-tests=error -j "$(nproc)"
 
 # InstallAndBuildExample is left to the Release half: it builds an
