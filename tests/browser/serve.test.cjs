@@ -23,10 +23,12 @@ const SANITIZED = process.env.GLINT_SANITIZED === '1';
 const SOURCE = process.env.GLINT_SOURCE_DIR;
 const work = fs.mkdtempSync(path.join(os.tmpdir(), 'glint-browser-'));
 const scenePath = path.join(work, 'scene.json');
-// The showcase at 480 x 270 (a coarse frame, then the full one), 1 spp.
+// The showcase at 480 x 270 (a coarse frame, then the full one), 1 spp; at a
+// quarter of the pixels under the sanitizers, whose renders are 20x slower.
+const [W, H] = SANITIZED ? [240, 135] : [480, 270];
 const base = JSON.parse(fs.readFileSync(path.join(SOURCE, 'scenes/showcase.json'), 'utf8'));
-base.render.width = 480;
-base.render.height = 270;
+base.render.width = W;
+base.render.height = H;
 base.render.samples_per_pixel = 1;
 fs.writeFileSync(scenePath, JSON.stringify(base, null, 2));
 
@@ -313,7 +315,7 @@ test('the file stays the truth: in place, by rename, broken', async () => {
   assert.equal(await diffWithPng(glintRender(scenePath)), 0);
   // Broken: the loader's error, the last good image kept.
   const good = await canvasHash();
-  fs.writeFileSync(scenePath, '{\n  "render": { "width": 480, "height": -5 }\n}\n');
+  fs.writeFileSync(scenePath, `{\n  "render": { "width": ${W}, "height": -5 }\n}\n`);
   await until(page, () => !document.getElementById('error').hidden);
   const error = await page.textContent('#error');
   assert.match(error, /^error: .*scene\.json:2:\d+: /);
@@ -358,9 +360,9 @@ test('a slider changes the frame to glint render of the same parameters', async 
 });
 
 test('clicking a pixel shows the tree of glint explain --json and selects its material', async () => {
-  const [x, y] = [140, 170];  // on the red ball
+  const [x, y] = [Math.round(140 * W / 480), Math.round(170 * H / 270)];  // on the red ball
   const box = await page.locator('#frame').boundingBox();
-  await page.mouse.click(box.x + (x + 0.5) * box.width / 480, box.y + (y + 0.5) * box.height / 270);
+  await page.mouse.click(box.x + (x + 0.5) * box.width / W, box.y + (y + 0.5) * box.height / H);
   await until(page, () => window.glintPreview.lastExplain !== null);
   const shown = await page.evaluate(() => window.glintPreview.lastExplain);
   const edited = structuredClone(base);
@@ -479,8 +481,8 @@ test('meshes and textures are read once; a changed one is read again and shown',
     fs.copyFileSync(path.join(SOURCE, 'scenes/textures', f), path.join(dir, f));
   const doc = JSON.parse(fs.readFileSync(path.join(SOURCE, 'scenes/textures/textures.json'), 'utf8'));
   delete doc.$schema;
-  doc.render.width = 320;
-  doc.render.height = 180;
+  doc.render.width = W * 2 / 3;
+  doc.render.height = H * 2 / 3;
   doc.render.samples_per_pixel = 1;
   const file = path.join(dir, 'textures.json');
   fs.writeFileSync(file, JSON.stringify(doc, null, 2));
