@@ -24,13 +24,13 @@
 
 namespace glint {
 
-// Raw storage for kPacketSize values of T. Slot i is set by assigning to it
+// Raw storage for N values of T (a packet's kPacketSize by default). Slot i is set by assigning to it
 // or to its fields (T implicit-lifetime: rays, colors, whose objects the
 // byte array creates implicitly) or by `new (&slots[i]) T(...)`; only slots
 // that were set may be read. Checking builds (GLINT_FILL_PACKET_SLOTS) fill
 // the storage with 0xff bytes (NaN doubles), so a slot read before it is set
 // shows in the tests that compare packets with single rays bit for bit.
-template <class T>
+template <class T, int N = kPacketSize>
 class PacketSlots {
   static_assert(std::is_trivially_destructible_v<T>);
 
@@ -46,12 +46,13 @@ class PacketSlots {
   const T* data() const { return std::launder(reinterpret_cast<const T*>(storage_)); }
 
  private:
-  alignas(T) std::byte storage_[kPacketSize * sizeof(T)];
+  alignas(T) std::byte storage_[N * sizeof(T)];
 };
 
 // Hits for intersect_packet: the first `count` empty (their flags set, the
 // Hits themselves left unwritten).
-struct PacketHits : PacketSlots<std::optional<Hit>> {
+template <int N = kPacketSize>
+struct PacketHits : PacketSlots<std::optional<Hit>, N> {
   explicit PacketHits(int count) {
     for (int i = 0; i < count; ++i) new (&(*this)[i]) std::optional<Hit>;
   }

@@ -360,8 +360,9 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel)
     : scene_(scene), accel_(accel), epsilon_(scene.render.epsilon.value_or(auto_epsilon(scene))) {
   for (const Light& light : scene.lights) {
     cos_cutoff_.push_back(std::cos(light.cutoff * std::numbers::pi / 180.0));
-    // cast_camera_packet knows the lights of one sample (single_light_sample);
-    // it also never seeds a pixel's random numbers, which only area lights draw.
+    // A batch of pixels shades light by light, so an area light's samples
+    // would draw the random numbers in another order than pixel by pixel
+    // (and from one stream, not each pixel's): those scenes shade one by one.
     const bool single_sample = light.type == LightType::ambient || light.type == LightType::point ||
                                light.type == LightType::spot || light.type == LightType::directional;
     if (!single_sample) shades_packets_ = false;
@@ -370,16 +371,9 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel)
 
 template <class Recorder>
 Color Integrator::cast(const Ray& ray, int depth, TraceContext& ctx, Recorder& rec) const {
-  return cast_with_hit(ray, accel_.intersect(ray), depth, ctx, rec);
-}
-
-template <class Recorder>
-Color Integrator::cast_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth, TraceContext& ctx,
-                                Recorder& rec) const {
-  if (hit && depth == 1) ctx.stats.camera_hits++;
-  Color color = scene_.render.background;
-  if (hit) color = shade(ray, *hit, depth, ctx, rec).sum();
-  rec.ray(ray, depth, hit, color);
+  const std::optional<Hit> hit = accel_.intersect(ray);
+  Color color;
+  cast_batch<1>(&ray, &hit, 1, depth, ctx, &rec, &color);
   return color;
 }
 
@@ -394,13 +388,19 @@ Color Integrator::trace_ray(const Ray& ray, int depth, TraceContext& ctx, RayTra
 }
 
 ShadeTerms Integrator::shade_surface(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx) const {
+  const std::optional<Hit> known(hit);
+  const int point = 0;
   NoRecorder rec;
-  return shade(ray, hit, depth, ctx, rec);
+  ShadeTerms out;
+  shade_batch<1>(&ray, &known, &point, 1, depth, ctx, &rec, &out);
+  return out;
 }
 
 Color Integrator::cast_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth, TraceContext& ctx) const {
-  if (hit && depth == 1) ctx.stats.camera_hits++;
-  return hit ? shade_surface(ray, *hit, depth, ctx).sum() : scene_.render.background;
+  NoRecorder rec;
+  Color color;
+  cast_batch<1>(&ray, &hit, 1, depth, ctx, &rec, &color);
+  return color;
 }
 
 CameraSample Integrator::cast_camera_ray(const Ray& ray, TraceContext& ctx) const {
@@ -428,6 +428,16 @@ CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::opt
   return out;
 }
 
+void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* hits, int count, TraceContext& ctx,
+                                    Color* colors) const {
+  if (!shades_packets_ || count > kPacketSize) {
+    for (int i = 0; i < count; ++i) colors[i] = cast_ray_with_hit(rays[i], hits[i], 1, ctx);
+    return;
+  }
+  NoRecorder recs[kPacketSize];
+  cast_batch<kPacketSize>(rays, hits, count, 1, ctx, recs, colors);
+}
+
 // A light sample up to its shadow ray (Integrator::prepare_light_sample,
 // which writes the shadow ray itself where the caller keeps it).
 struct PreparedSample {
@@ -444,97 +454,191 @@ struct SecondaryRays {
   bool reflects = false, refracts = false;
 };
 
-void Integrator::cast_camera_packet(const Ray* rays, const std::optional<Hit>* hits, int count, TraceContext& ctx,
-                                   Color* colors) const {
-  // shade() for each ray, light by light across the rays: the same terms
-  // added in the same order for each pixel, and no pixel's numbers depend on
-  // another's (without area lights nothing draws random numbers). Kept in
-  // step with shade() and light_terms().
-  if (!shades_packets_ || count > kPacketSize) {
-    for (int i = 0; i < count; ++i) colors[i] = cast_ray_with_hit(rays[i], hits[i], 1, ctx);
-    return;
-  }
-  NoRecorder rec;
-  PacketSlots<ShadingPoint> at;  // set for the rays that hit
-  PacketSlots<ShadeTerms> out;    // set for the rays that hit
-  bool shaded[kPacketSize] = {};
+// --- The formula, once ------------------------------------------------------
+// Slot i of every per-point array below belongs to ray i of the batch;
+// `points` lists the slots in play (the rays that hit, then the points that
+// are lit), in order. With MaxN = 1 every loop runs once and every array is
+// one value: the scalar path, with nothing of the batch left after inlining.
+
+namespace {
+
+// The slot of the k-th entry of a list of slots: always 0 in a batch of one,
+// where the compiler then drops the lists.
+template <int MaxN>
+int slot(const int* list, int k) {
+  return MaxN == 1 ? 0 : list[k];
+}
+
+}  // namespace
+
+template <int MaxN, class Recorder>
+void Integrator::cast_batch(const Ray* rays, const std::optional<Hit>* hits, int count, int depth, TraceContext& ctx,
+                            Recorder* recs, Color* colors) const {
+  if constexpr (MaxN == 1) count = 1;  // a batch of one is always one ray
+  int points[MaxN];
+  int n = 0;
   for (int i = 0; i < count; ++i) {
     if (!hits[i]) continue;
-    new (&out[i]) ShadeTerms;
-    ctx.stats.camera_hits++;
+    if (depth == 1) ctx.stats.camera_hits++;
+    points[n++] = i;
+  }
+  PacketSlots<ShadeTerms, MaxN> terms;  // set for the rays that hit
+  if (n > 0) shade_batch<MaxN>(rays, hits, points, n, depth, ctx, recs, terms.data());
+  for (int i = 0; i < count; ++i) {
+    colors[i] = hits[i] ? terms[i].sum() : scene_.render.background;
+    recs[i].ray(rays[i], depth, hits[i], colors[i]);
+  }
+}
+
+template <int MaxN, class Recorder>
+void Integrator::shade_batch(const Ray* rays, const std::optional<Hit>* hits, const int* points, int count, int depth,
+                             TraceContext& ctx, Recorder* recs, ShadeTerms* out) const {
+  PacketSlots<ShadingPoint, MaxN> at;
+  int lit[MaxN];  // the points the lights shine on
+  int n = 0;
+  for (int k = 0; k < count; ++k) {
+    const int i = slot<MaxN>(points, k);
     new (&at[i]) ShadingPoint(shading_point(scene_, rays[i], *hits[i], epsilon_));
-    if (scene_.materials[at[i].sp.material].unlit) {
+    recs[i].surface(at[i]);
+    new (&out[i]) ShadeTerms;
+    if (scene_.materials[at[i].sp.material].unlit) {  // MTL illum 0: the color is Kd, no lights, no shadows, no rays
       out[i].ambient = at[i].sp.reflectance.diffuse;
       continue;
     }
-    shaded[i] = true;
+    lit[n++] = i;
   }
-  for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
-    const Light& light = scene_.lights[li];
-    PacketSlots<ShadeTerms> terms;  // set for the shaded points
-    PacketSlots<LightSample> sample;
-    PacketSlots<PreparedSample> prepared;  // constructed, then filled by prepare_light_sample
-    PacketSlots<Ray> shadow;
-    int pixel[kPacketSize];
-    int asked = 0;
-    for (int i = 0; i < count; ++i) {
-      if (!shaded[i]) continue;
-      new (&terms[i]) ShadeTerms;
-      terms[i].ambient = at[i].sp.reflectance.ambient * light.ambient;
-      if (light.type == LightType::ambient) continue;
-      new (&sample[i]) LightSample(single_light_sample(light, li, at[i]));
-      new (&prepared[i]) PreparedSample;
-      // The shadow ray written in its place in the packet: copied from
-      // `prepared` it was loaded 64 bytes at once just after the call stored
-      // it in parts, which stalls (store forwarding).
-      if (!prepare_light_sample(at[i], sample[i], prepared[i], shadow[asked], rec)) continue;
-      ctx.stats.shadow++;
-      pixel[asked++] = i;
-    }
-    if (asked > 0) {
-      bool blocked[kPacketSize];
-      uint32_t no_cache = kNoShadowBlocker;
-      accel_.occluded_packet(shadow.data(), asked, blocked, li < ctx.shadow_cache.size() ? ctx.shadow_cache[li] : no_cache);
-      for (int k = 0; k < asked; ++k)
-        if (!blocked[k]) add_lit_sample(at[pixel[k]], sample[pixel[k]], prepared[pixel[k]], terms[pixel[k]], rec);
-    }
-    for (int i = 0; i < count; ++i) {
-      if (!shaded[i]) continue;
-      out[i].ambient += terms[i].ambient;
-      out[i].diffuse += terms[i].diffuse;
-      out[i].specular += terms[i].specular;
-    }
+  for (uint32_t li = 0; li < scene_.lights.size(); ++li) add_light<MaxN>(at.data(), lit, n, li, ctx, recs, out);
+  add_secondary_rays<MaxN>(at.data(), lit, n, depth, ctx, recs, out);
+}
+
+// Inlined into shade_batch's loop over lights: otherwise GCC calls it per
+// light and per point on the scalar path.
+template <int MaxN, class Recorder>
+[[gnu::always_inline]] inline void Integrator::add_light(const ShadingPoint* at, const int* points, int count,
+                                                         uint32_t li, TraceContext& ctx, Recorder* recs,
+                                                         ShadeTerms* out) const {
+  const Light& light = scene_.lights[li];
+  using LightRecorder = decltype(recs[0].light(li));
+  LightRecorder light_recs[MaxN];
+  PacketSlots<ShadeTerms, MaxN> terms;  // this light's, per point
+  for (int k = 0; k < count; ++k) {
+    const int i = slot<MaxN>(points, k);
+    light_recs[i] = recs[i].light(li);
+    new (&terms[i]) ShadeTerms;
+    terms[i].ambient = at[i].sp.reflectance.ambient * light.ambient;
   }
-  // add_secondary_rays for each point, the reflected rays traced as one
-  // packet (off a mirror floor they are as coherent as the camera rays);
-  // refracted rays one by one.
-  PacketSlots<SecondaryRays> secondary;
-  PacketSlots<Ray> reflected;
-  int reflecting[kPacketSize];
-  int n = 0;
-  for (int i = 0; i < count; ++i)
-    if (shaded[i]) new (&secondary[i]) SecondaryRays(secondary_rays(at[i], 1));
-  // Gathered in a second pass: read back right after secondary_rays stored
-  // them in parts, the rays were loaded 64 bytes at once, which stalls
-  // (store forwarding).
-  for (int i = 0; i < count; ++i)
-    if (shaded[i] && secondary[i].reflects) {
-      reflected[n] = secondary[i].reflected;
-      reflecting[n++] = i;
-    }
-  PacketHits reflected_hits(n);
-  if (n > 0) accel_.intersect_packet(reflected.data(), n, reflected_hits.data());
-  for (int k = 0; k < n; ++k) {
-    const SecondaryRays& s = secondary[reflecting[k]];
-    ctx.stats.reflection++;
-    auto child = rec.reflection(s.reflect_weight);
-    out[reflecting[k]].reflection = s.reflect_weight * cast_with_hit(reflected[k], reflected_hits[k], 2, ctx, child);
+  switch (light.type) {
+    case LightType::ambient: break;
+    case LightType::point:
+    case LightType::spot:
+    case LightType::directional: add_single_samples<MaxN>(at, points, count, li, ctx, light_recs, terms.data()); break;
+    case LightType::area:
+      for (int k = 0; k < count; ++k) {
+        const int i = slot<MaxN>(points, k);
+        add_area_light(at[i], li, terms[i], ctx, light_recs[i]);
+      }
+      break;
   }
-  for (int i = 0; i < count; ++i) {
-    if (shaded[i]) add_refraction(secondary[i], 1, ctx, rec, out[i]);
-    colors[i] = hits[i] ? out[i].sum() : scene_.render.background;
+  // Each light's terms are summed on their own, then added: the contract's
+  // "sum over lights", in the same order whether or not a trace is kept.
+  for (int k = 0; k < count; ++k) {
+    const int i = slot<MaxN>(points, k);
+    light_recs[i].done(light, at[i], terms[i]);
+    out[i].ambient += terms[i].ambient;
+    out[i].diffuse += terms[i].diffuse;
+    out[i].specular += terms[i].specular;
   }
 }
+
+template <int MaxN, class LightRecorder>
+void Integrator::add_single_samples(const ShadingPoint* at, const int* points, int count, uint32_t li,
+                                    TraceContext& ctx, LightRecorder* recs, ShadeTerms* terms) const {
+  const Light& light = scene_.lights[li];
+  PacketSlots<LightSample, MaxN> sample;
+  PacketSlots<PreparedSample, MaxN> prepared;  // constructed, then filled by prepare_light_sample
+  PacketSlots<Ray, MaxN> shadow;               // the shadow rays asked, in order
+  int asking[MaxN];
+  int asked = 0;
+  for (int k = 0; k < count; ++k) {
+    const int i = slot<MaxN>(points, k);
+    new (&sample[i]) LightSample(single_light_sample(light, li, at[i]));
+    new (&prepared[i]) PreparedSample;
+    // The shadow ray written in its place in the packet: copied from
+    // `prepared` it was loaded 64 bytes at once just after the call stored
+    // it in parts, which stalls (store forwarding).
+    if (!prepare_light_sample(at[i], sample[i], prepared[i], shadow[asked], recs[i])) continue;
+    ctx.stats.shadow++;
+    asking[asked++] = i;
+  }
+  if (asked == 0) return;
+  bool blocked[MaxN];
+  if constexpr (MaxN == 1) {
+    uint32_t* cache = li < ctx.shadow_cache.size() ? &ctx.shadow_cache[li] : nullptr;
+    blocked[0] = recs[0].blocked(accel_, shadow[0], cache);
+  } else {
+    static_assert(std::is_same_v<LightRecorder, NoRecorder>, "a recorded ray is shaded in a batch of one");
+    uint32_t no_cache = kNoShadowBlocker;
+    accel_.occluded_packet(shadow.data(), asked, blocked,
+                           li < ctx.shadow_cache.size() ? ctx.shadow_cache[li] : no_cache);
+  }
+  for (int j = 0; j < asked; ++j) {
+    const int i = slot<MaxN>(asking, j);
+    if (!blocked[j]) add_lit_sample(at[i], sample[i], prepared[i], terms[i], recs[i]);
+  }
+}
+
+template <int MaxN, class Recorder>
+void Integrator::add_secondary_rays(const ShadingPoint* at, const int* points, int count, int depth, TraceContext& ctx,
+                                    Recorder* recs, ShadeTerms* out) const {
+  PacketSlots<SecondaryRays, MaxN> secondary;
+  for (int k = 0; k < count; ++k) {
+    const int i = slot<MaxN>(points, k);
+    new (&secondary[i]) SecondaryRays(secondary_rays(at[i], depth));
+  }
+  // A batch's reflected rays find their first hits as one packet (off a
+  // mirror floor they are as coherent as the camera rays); each is then
+  // shaded on its own, and every refracted ray is cast on its own.
+  PacketSlots<Ray, MaxN> reflected;                      // in the order of `points`
+  PacketSlots<std::optional<Hit>, MaxN> reflected_hits;  // likewise
+  if constexpr (MaxN > 1) {
+    // Gathered in a second pass: read back right after secondary_rays
+    // stored them in parts, the rays were loaded 64 bytes at once, which
+    // stalls (store forwarding).
+    int n = 0;
+    for (int k = 0; k < count; ++k) {
+      const SecondaryRays& s = secondary[points[k]];
+      if (!s.reflects) continue;
+      reflected[n] = s.reflected;
+      new (&reflected_hits[n++]) std::optional<Hit>;
+    }
+    if (n > 0) accel_.intersect_packet(reflected.data(), n, reflected_hits.data());
+  }
+  for (int k = 0, j = 0; k < count; ++k) {
+    const int i = slot<MaxN>(points, k);
+    const SecondaryRays& s = secondary[i];
+    if (!s.reflects) continue;
+    ctx.stats.reflection++;
+    auto child = recs[i].reflection(s.reflect_weight);
+    Color color;
+    if constexpr (MaxN == 1) {
+      color = cast(s.reflected, depth + 1, ctx, child);
+    } else {
+      cast_batch<1>(&reflected[j], &reflected_hits[j], 1, depth + 1, ctx, &child, &color);
+      ++j;
+    }
+    out[i].reflection = s.reflect_weight * color;
+  }
+  for (int k = 0; k < count; ++k) {
+    const int i = slot<MaxN>(points, k);
+    const SecondaryRays& s = secondary[i];
+    if (!s.refracts) continue;
+    ctx.stats.refraction++;
+    auto child = recs[i].refraction(s.refract_weight);
+    out[i].transmission = s.refract_weight * cast(s.refracted, depth + 1, ctx, child);
+  }
+}
+
+// --- Per light sample ---------------------------------------------------------
 
 template <class LightRecorder>
 void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, ShadeTerms& out, TraceContext& ctx,
@@ -543,19 +647,16 @@ void Integrator::add_light_sample(const ShadingPoint& at, const LightSample& s, 
   Ray shadow;
   if (!prepare_light_sample(at, s, prepared, shadow, rec)) return;
   ctx.stats.shadow++;
-  // The shadow cache serves point, spot and directional lights; an area
-  // light's samples spread over its surface and mostly pass the last blocker
-  // by (with the cache, a soft-shadow scene rendered 12% slower).
-  const Light& light = scene_.lights[s.light];
-  uint32_t* cache =
-      light.type != LightType::area && s.light < ctx.shadow_cache.size() ? &ctx.shadow_cache[s.light] : nullptr;
-  if (rec.blocked(accel_, shadow, cache)) return;
+  // No shadow cache: an area light's samples spread over its surface and
+  // mostly pass the last blocker by (with the cache, a soft-shadow scene
+  // rendered 12% slower).
+  if (rec.blocked(accel_, shadow, nullptr)) return;
   add_lit_sample(at, s, prepared, out, rec);
 }
 
 template <class LightRecorder>
-bool Integrator::prepare_light_sample(const ShadingPoint& at, const LightSample& s, PreparedSample& out,
-                                      Ray& shadow, LightRecorder& rec) const {
+bool Integrator::prepare_light_sample(const ShadingPoint& at, const LightSample& s, PreparedSample& out, Ray& shadow,
+                                      LightRecorder& rec) const {
   const Light& light = scene_.lights[s.light];
   const Vec3 l = normalize(s.to_light);
   const double n_dot_l = dot(at.n, l);
@@ -635,25 +736,6 @@ void Integrator::add_area_light(const ShadingPoint& at, uint32_t li, ShadeTerms&
   }
 }
 
-template <class Recorder>
-ShadeTerms Integrator::light_terms(const ShadingPoint& at, uint32_t li, TraceContext& ctx, Recorder& rec) const {
-  const Light& light = scene_.lights[li];
-  auto light_rec = rec.light(li);
-  ShadeTerms terms;
-  terms.ambient = at.sp.reflectance.ambient * light.ambient;
-  switch (light.type) {
-    case LightType::ambient: break;
-    case LightType::point:
-    case LightType::spot:
-    case LightType::directional:
-      add_light_sample(at, single_light_sample(light, li, at), terms, ctx, light_rec);
-      break;
-    case LightType::area: add_area_light(at, li, terms, ctx, light_rec); break;
-  }
-  light_rec.done(light, at, terms);
-  return terms;
-}
-
 SecondaryRays Integrator::secondary_rays(const ShadingPoint& at, int depth) const {
   SecondaryRays out;
   // Weights of the reflected and refracted rays (contract: materials, fresnel).
@@ -685,48 +767,6 @@ SecondaryRays Integrator::secondary_rays(const ShadingPoint& at, int depth) cons
     out.reflect_weight = reflect_weight;
     out.reflects = true;
   }
-  return out;
-}
-
-template <class Recorder>
-void Integrator::add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec,
-                                    ShadeTerms& out) const {
-  const SecondaryRays s = secondary_rays(at, depth);
-  if (s.reflects) {
-    ctx.stats.reflection++;
-    auto child = rec.reflection(s.reflect_weight);
-    out.reflection = s.reflect_weight * cast(s.reflected, depth + 1, ctx, child);
-  }
-  add_refraction(s, depth, ctx, rec, out);
-}
-
-template <class Recorder>
-void Integrator::add_refraction(const SecondaryRays& s, int depth, TraceContext& ctx, Recorder& rec,
-                                ShadeTerms& out) const {
-  if (!s.refracts) return;
-  ctx.stats.refraction++;
-  auto child = rec.refraction(s.refract_weight);
-  out.transmission = s.refract_weight * cast(s.refracted, depth + 1, ctx, child);
-}
-
-template <class Recorder>
-ShadeTerms Integrator::shade(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx, Recorder& rec) const {
-  const ShadingPoint at = shading_point(scene_, ray, hit, epsilon_);
-  rec.surface(at);
-  ShadeTerms out;
-  if (scene_.materials[at.sp.material].unlit) {  // MTL illum 0: the color is Kd, no lights, no shadows, no rays
-    out.ambient = at.sp.reflectance.diffuse;
-    return out;
-  }
-  // Each light's terms are summed on their own, then added: the contract's
-  // "sum over lights", in the same order whether or not a trace is kept.
-  for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
-    const ShadeTerms terms = light_terms(at, li, ctx, rec);
-    out.ambient += terms.ambient;
-    out.diffuse += terms.diffuse;
-    out.specular += terms.specular;
-  }
-  add_secondary_rays(at, depth, ctx, rec, out);
   return out;
 }
 

@@ -131,11 +131,12 @@ class Integrator {
   CameraSample cast_camera_ray_with_hit(const Ray& ray, const std::optional<Hit>& hit, TraceContext& ctx) const;
 
   // cast_ray_with_hit for up to kPacketSize camera rays of neighbouring
-  // pixels (their first hits found as a packet): each ray shaded as there,
-  // but the shadow rays of all of them toward one light are asked as one
-  // packet (Accelerator::occluded_packet). colors[i] is cast_ray_with_hit's
-  // color for rays[i], bit for bit. Only for scenes where shades_packets():
-  // without area lights, whose samples draw each pixel's random numbers.
+  // pixels (their first hits found as a packet), shaded as one batch: the
+  // shadow rays of all of them toward one light are asked as one packet
+  // (Accelerator::occluded_packet), their reflected rays' first hits too.
+  // colors[i] is cast_ray_with_hit's color for rays[i], bit for bit. Only
+  // for scenes where shades_packets(): without area lights, whose samples
+  // draw each pixel's random numbers in the pixel's order.
   bool shades_packets() const { return shades_packets_; }
   void cast_camera_packet(const Ray* rays, const std::optional<Hit>* hits, int count, TraceContext& ctx,
                           Color* colors) const;
@@ -143,45 +144,55 @@ class Integrator {
   double epsilon() const { return epsilon_; }
 
  private:
-  // The shading code, once, for both recorders (integrator.cpp): `Recorder`
-  // is the render's NoRecorder, whose hooks are empty and inline away, or
-  // explain's TraceRecorder, which fills a RayTrace.
+  // The formula's control flow, written once (integrator.cpp), for a batch
+  // of up to MaxN rays whose first hits are known: cast_batch gives each ray
+  // its color (the background on a miss), shade_batch the terms of the
+  // points that were hit. cast_ray, trace_ray and shade_surface are batches
+  // of one (MaxN = 1); cast_camera_packet is a batch of neighbouring camera
+  // rays whose shadow rays toward each light are asked as one packet.
+  // `Recorder` is the render's NoRecorder, whose hooks are empty and inline
+  // away, or explain's TraceRecorder, which fills a RayTrace (batches of one).
+  template <int MaxN, class Recorder>
+  void cast_batch(const Ray* rays, const std::optional<Hit>* hits, int count, int depth, TraceContext& ctx,
+                  Recorder* recs, Color* colors) const;
+  template <int MaxN, class Recorder>
+  void shade_batch(const Ray* rays, const std::optional<Hit>* hits, const int* points, int count, int depth,
+                   TraceContext& ctx, Recorder* recs, ShadeTerms* out) const;
+  // A batch of one ray, its hit found first.
   template <class Recorder>
   Color cast(const Ray& ray, int depth, TraceContext& ctx, Recorder& rec) const;
-  // cast() once the ray's hit is known.
-  template <class Recorder>
-  Color cast_with_hit(const Ray& ray, const std::optional<Hit>& hit, int depth, TraceContext& ctx,
-                      Recorder& rec) const;
-  template <class Recorder>
-  ShadeTerms shade(const Ray& ray, const Hit& hit, int depth, TraceContext& ctx, Recorder& rec) const;
-  // One light's ambient, diffuse and specular at the point.
-  template <class Recorder>
-  ShadeTerms light_terms(const ShadingPoint& at, uint32_t light, TraceContext& ctx, Recorder& rec) const;
-  // An area light's stratified samples, added to `out`.
+  // One light's ambient, diffuse and specular at each point, added to out.
+  template <int MaxN, class Recorder>
+  void add_light(const ShadingPoint* at, const int* points, int count, uint32_t light, TraceContext& ctx,
+                 Recorder* recs, ShadeTerms* out) const;
+  // A point, spot or directional light: one sample per point, the shadow
+  // rays of a batch asked as one packet, a single one through the cache.
+  template <int MaxN, class LightRecorder>
+  void add_single_samples(const ShadingPoint* at, const int* points, int count, uint32_t light, TraceContext& ctx,
+                          LightRecorder* recs, ShadeTerms* terms) const;
+  // The weighted reflected and refracted rays, into out.reflection and out.transmission.
+  template <int MaxN, class Recorder>
+  void add_secondary_rays(const ShadingPoint* at, const int* points, int count, int depth, TraceContext& ctx,
+                          Recorder* recs, ShadeTerms* out) const;
+  // An area light's stratified samples at one point, added to `out`.
   template <class LightRecorder>
   void add_area_light(const ShadingPoint& at, uint32_t light, ShadeTerms& out, TraceContext& ctx,
                       LightRecorder& rec) const;
-  // Diffuse + specular from one light sample, shadow ray included, added to `out`.
+  // Diffuse + specular from one area light sample, shadow ray included, added to `out`.
   template <class LightRecorder>
   void add_light_sample(const ShadingPoint& at, const LightSample& sample, ShadeTerms& out, TraceContext& ctx,
                         LightRecorder& rec) const;
-  // add_light_sample's two halves around its shadow query: the sample's
-  // scale and its shadow ray, into `shadow` (false: it cannot light the
-  // point), and its diffuse and specular once the ray is known unblocked.
+  // A light sample's two halves around its shadow query: the sample's scale
+  // and its shadow ray, into `shadow` (false: it cannot light the point), and
+  // its diffuse and specular once the ray is known unblocked.
   template <class LightRecorder>
   bool prepare_light_sample(const ShadingPoint& at, const LightSample& sample, PreparedSample& out, Ray& shadow,
                             LightRecorder& rec) const;
   template <class LightRecorder>
   void add_lit_sample(const ShadingPoint& at, const LightSample& sample, const PreparedSample& prepared,
                       ShadeTerms& out, LightRecorder& rec) const;
-  // The weighted reflected and refracted rays, into out.reflection and out.transmission.
-  template <class Recorder>
-  void add_secondary_rays(const ShadingPoint& at, int depth, TraceContext& ctx, Recorder& rec, ShadeTerms& out) const;
-  // Which of them a point at `depth` casts, their weights and rays.
+  // Which rays a point at `depth` casts on, their weights and rays.
   SecondaryRays secondary_rays(const ShadingPoint& at, int depth) const;
-  // The refracted ray of `s`, when there is one, into out.transmission.
-  template <class Recorder>
-  void add_refraction(const SecondaryRays& s, int depth, TraceContext& ctx, Recorder& rec, ShadeTerms& out) const;
 
   const Scene& scene_;
   const Accelerator& accel_;

@@ -187,7 +187,7 @@ void render_first_pass_rows(const PixelContext& pc, const Accelerator& accel, in
         px[n] = x;
         py[n++] = y;
       }
-    PacketHits hits(n);
+    PacketHits<> hits(n);
     accel.intersect_packet(rays.data(), n, hits.data());
     if ((!passes || passes->empty()) && pc.integrator.shades_packets()) {
       // Shaded together (their shadow rays as packets); each pixel stored
