@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -196,42 +197,84 @@ TEST_F(NffEveryEntity, JsonTextIsTheDocumentOnePartPerLine) {
   EXPECT_EQ(objects, 6u);
 }
 
-// Two documents hold the same values, keys and order.
-void expect_same_value(const json::Value& a, const json::Value& b, const std::string& path) {
-  ASSERT_EQ(a.kind(), b.kind()) << path;
-  switch (a.kind()) {
-    case json::Kind::number: EXPECT_EQ(a.as_number(), b.as_number()) << path; break;
-    case json::Kind::string: EXPECT_EQ(a.as_string(), b.as_string()) << path; break;
-    case json::Kind::boolean: EXPECT_EQ(a.as_bool(), b.as_bool()) << path; break;
-    case json::Kind::array:
-      ASSERT_EQ(a.size(), b.size()) << path;
-      for (size_t i = 0; i < a.size(); ++i) expect_same_value(a[i], b[i], path + "[" + std::to_string(i) + "]");
-      break;
-    case json::Kind::object:
-      ASSERT_EQ(a.size(), b.size()) << path;
-      for (size_t i = 0; i < a.size(); ++i) {
-        ASSERT_EQ(a.key(i), b.key(i)) << path;
-        expect_same_value(a.member(i), b.member(i), path + "." + std::string(a.key(i)));
-      }
-      break;
-    case json::Kind::null: break;
+// The scene load_scene builds from an NFF file's parts, and the scene of the
+// JSON text `glint convert` writes for it: the same, value for value, and the
+// same image to the bit.
+void expect_same_scene(const Scene& a, const Scene& b) {
+  auto same = [](const Vec3& x, const Vec3& y) { return x.x == y.x && x.y == y.y && x.z == y.z; };
+  EXPECT_EQ(a.render.width, b.render.width);
+  EXPECT_EQ(a.render.height, b.render.height);
+  EXPECT_EQ(a.render.samples_per_pixel, b.render.samples_per_pixel);
+  EXPECT_EQ(a.render.max_depth, b.render.max_depth);
+  EXPECT_TRUE(same(a.render.background, b.render.background));
+  EXPECT_TRUE(same(a.camera.position, b.camera.position));
+  EXPECT_TRUE(same(a.camera.look_at, b.camera.look_at));
+  EXPECT_TRUE(same(a.camera.up, b.camera.up));
+  EXPECT_EQ(a.camera.fov_y, b.camera.fov_y);
+  ASSERT_EQ(a.materials.size(), b.materials.size());
+  for (size_t i = 0; i < a.materials.size(); ++i) {
+    SCOPED_TRACE("material " + std::to_string(i));
+    const Material &x = a.materials[i], &y = b.materials[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_TRUE(same(x.ambient, y.ambient) && same(x.diffuse, y.diffuse) && same(x.specular, y.specular));
+    EXPECT_TRUE(same(x.reflectivity, y.reflectivity));
+    EXPECT_EQ(x.shininess, y.shininess);
+    EXPECT_EQ(x.transparency, y.transparency);
+    EXPECT_EQ(x.ior, y.ior);
+    EXPECT_EQ(x.fresnel, y.fresnel);
+  }
+  ASSERT_EQ(a.lights.size(), b.lights.size());
+  for (size_t i = 0; i < a.lights.size(); ++i) {
+    SCOPED_TRACE("light " + std::to_string(i));
+    const Light &x = a.lights[i], &y = b.lights[i];
+    EXPECT_EQ(x.type, y.type);
+    EXPECT_TRUE(same(x.position, y.position));
+    EXPECT_TRUE(same(x.ambient, y.ambient) && same(x.diffuse, y.diffuse) && same(x.specular, y.specular));
+    EXPECT_TRUE(same(x.attenuation, y.attenuation));
+  }
+  ASSERT_EQ(a.objects.size(), b.objects.size());
+  for (size_t i = 0; i < a.objects.size(); ++i) {
+    EXPECT_EQ(a.objects[i].type, b.objects[i].type) << i;
+    EXPECT_EQ(a.objects[i].shape, b.objects[i].shape) << i;
+    EXPECT_EQ(a.objects[i].material, b.objects[i].material) << i;
+    EXPECT_EQ(a.objects[i].transform, b.objects[i].transform) << i;
+  }
+  ASSERT_EQ(a.spheres.size(), b.spheres.size());
+  for (size_t i = 0; i < a.spheres.size(); ++i)
+    EXPECT_TRUE(same(a.spheres[i].center, b.spheres[i].center) && a.spheres[i].radius == b.spheres[i].radius) << i;
+  ASSERT_EQ(a.cones.size(), b.cones.size());
+  for (size_t i = 0; i < a.cones.size(); ++i)
+    EXPECT_TRUE(same(a.cones[i].base, b.cones[i].base) && same(a.cones[i].apex, b.cones[i].apex) &&
+                a.cones[i].base_radius == b.cones[i].base_radius && a.cones[i].apex_radius == b.cones[i].apex_radius &&
+                a.cones[i].caps == b.cones[i].caps)
+        << i;
+  ASSERT_EQ(a.polygons.size(), b.polygons.size());
+  for (size_t i = 0; i < a.polygons.size(); ++i) {
+    ASSERT_EQ(a.polygons[i].vertices.size(), b.polygons[i].vertices.size()) << i;
+    for (size_t k = 0; k < a.polygons[i].vertices.size(); ++k)
+      EXPECT_TRUE(same(a.polygons[i].vertices[k], b.polygons[i].vertices[k])) << i;
+    ASSERT_EQ(a.polygons[i].normals.size(), b.polygons[i].normals.size()) << i;
+    for (size_t k = 0; k < a.polygons[i].normals.size(); ++k)
+      EXPECT_TRUE(same(a.polygons[i].normals[k], b.polygons[i].normals[k])) << i;
+    EXPECT_EQ(a.polygons[i].triangles, b.polygons[i].triangles) << i;
   }
 }
 
-TEST(Nff, LoaderDocumentIsTheJsonTextsDocument) {
-  // The document load_scene builds in memory holds what the JSON text of
-  // `glint convert` holds, and each part of it is on a line of its own.
+TEST(Nff, SceneIsTheConvertedJsonsScene) {
   for (const fs::path& file : {kNffDir / "every-entity.nff", kNffDir / "spheres.nff", kNffDir / "glass-sphere.nff",
                                kSpdDir / "balls.nff", kSpdDir / "tetra.nff"}) {
     SCOPED_TRACE(file.string());
-    const std::string text = read_text(file);
-    const json::Document built = nff_loader_document(text, "x.nff");
-    const json::Document parsed = json::parse(nff_json_text(read_nff(text, "x.nff")).text, "x.nff");
-    expect_same_value(built.root(), parsed.root(), "");
-    const json::Value objects = *built.root().find("objects");
-    ASSERT_GE(objects.size(), 1u);
-    for (size_t i = 1; i < objects.size(); ++i)
-      EXPECT_EQ(objects[i].location().line, objects[i - 1].location().line + 1);
+    const NffScene nff = read_nff_file(file);
+    Scene direct = load_scene(file);
+    Scene converted = parse_scene(nff_json_text(nff).text, "x.json");
+    EXPECT_EQ(direct.camera.row_center_angle, nff.angle);
+    converted.camera.row_center_angle = nff.angle;  // what `glint render` of an NFF file sets
+    expect_same_scene(direct, converted);
+    for (Scene* s : {&direct, &converted}) s->render.width = s->render.height = 48;
+    const Image a = render_image(direct, *build_accelerator(direct), {});
+    const Image b = render_image(converted, *build_accelerator(converted), {});
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
   }
 }
 
@@ -439,6 +482,46 @@ TEST_F(NffLoaderErrors, ReportedAtTheEntity) {
   const std::string huge = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 1048576 1048576\n";
   const std::string error = load_error(huge);
   EXPECT_TRUE(error.starts_with("t.nff:7:1: v: resolution: image of 1048576x1048576 pixels ")) << error;
+}
+
+TEST_F(NffLoaderErrors, TheJsonLoadersWordsAtTheEntity) {
+  // load_scene builds an NFF scene itself; the JSON text of `glint convert`
+  // goes through the JSON loader. Each problem the loader finds in that text,
+  // translated to the entity (nff_error), is the error load_scene gives.
+  const std::string huge = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 1048576 1048576\n";
+  for (const std::string& text : {kView + "s 0 0 0 0\n",
+                                  kView + "s 1 2 3 -0\n",
+                                  kView + "l 0 5 5 -1 0 0\n",
+                                  kView + "l 0 5 5 1 0 -1\n",
+                                  kView + "f 1 1 1 -0.5 0 1 0 1\n",
+                                  kView + "f 1 1 1 0.5 -0.2 1 0 1\n",
+                                  kView + "f 1 1 1 0.5 0 1 -0.5 1\n",
+                                  kView + "f 1 1 1 0.5 0 1 0.5 0\n",
+                                  kView + "f 1 1 1 0.5 0 1 0.5 -2\n",
+                                  "b -1 0 0\n" + kView,
+                                  "b 0 -0.5 0\n" + kView,
+                                  huge,
+                                  kView + "s 0 0 0 1\np 3\n0 0 0\n1 0 0\n2 0 0\n",
+                                  kView + "p 4\n0 0 0\n1 1 0\n1 0 0\n0 1 0\n",
+                                  kView + "pp 3\n0 0 0 0 0 0\n1 0 0 0 0 1\n0 1 0 0 0 1\n",
+                                  kView + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 -1\n0 1 0 0 0 1\n",
+                                  kView + "c\n0 0 0 1\n0 0 0 0.5\n",
+                                  kView + "c 0 0 0 0 0 0 1 0\n",
+                                  kView + "c\n1e308 0 0 1\n-1e308 0 0 1\n",
+                                  kView + "c 0 0 0 1 0 0 1 0\np 3 0 0 0 1 0 0 0 1 0\n"}) {
+    SCOPED_TRACE(text);
+    const NffScene nff = read_nff(text, (dir_ / "t.nff").string());
+    const NffJsonText json = nff_json_text(nff);
+    std::string expected = "no error";
+    try {
+      parse_scene(json.text, (dir_ / "t.json").string());
+    } catch (const Error& e) {
+      expected = relative(nff_error(nff, json, e).what());
+    }
+    EXPECT_EQ(load_error(text), expected);
+  }
+  // Kd times a color beyond a double: the JSON text can only write null there.
+  EXPECT_EQ(load_error(kView + "f 1e300 1 1 1e300 0 1 0 1\n"), "t.nff:8:1: f: ambient[0]: must be a finite number");
 }
 
 TEST_F(NffLoaderErrors, ShapesReportedAtTheirEntity) {

@@ -80,8 +80,6 @@ class Value {
   uint32_t node_;
 };
 
-class DocumentBuilder;
-
 // A parsed file: owns every node and string. Move-only.
 class Document {
  public:
@@ -101,57 +99,9 @@ class Document {
 
  private:
   friend Document parse(std::string text, std::string filename);
-  friend class DocumentBuilder;
   explicit Document(std::unique_ptr<detail::DocumentData> data);
 
   std::unique_ptr<detail::DocumentData> data_;
-};
-
-// A Document built in memory, value by value, for readers of other formats
-// whose scenes go through the same loader (io/nff_file.cpp): no text is
-// written or parsed. There are no columns: every value and key is at column
-// 1 of the line the builder is on when it is added (line 1 at first;
-// next_line() moves on), so a caller that starts a line per part of its
-// document can tell from an error's line which part it concerns.
-// Preconditions (the caller's duty, asserted in debug builds): key() only
-// directly inside an object and before each of its values, keys unique in
-// their object, end() only with something open, and document() only once
-// exactly one root value is complete.
-class DocumentBuilder {
- public:
-  explicit DocumentBuilder(std::string filename);
-  DocumentBuilder(const DocumentBuilder&) = delete;
-  DocumentBuilder& operator=(const DocumentBuilder&) = delete;
-  ~DocumentBuilder();
-
-  // Room for this many values and keys, and bytes of strings and keys.
-  void reserve(size_t nodes, size_t string_bytes);
-
-  void next_line();
-  int line() const;
-
-  void begin_object();
-  void begin_array();
-  void end();  // closes the innermost open object or array
-  void key(std::string_view key);
-  void number(double value);
-  void string(std::string_view value);
-  void boolean(bool value);
-  // A JSON array of three numbers.
-  void triple(double x, double y, double z);
-
-  Document document();
-
- private:
-  uint32_t add(Kind kind);
-
-  std::unique_ptr<detail::DocumentData> data_;
-  std::vector<uint32_t> pending_;  // children of the open containers, in order
-  struct Open {
-    uint32_t node;
-    size_t base;  // its children start at pending_[base]
-  };
-  std::vector<Open> open_;
 };
 
 // Parses `text` (strict RFC 8259 JSON, optionally behind a UTF-8 BOM) whose

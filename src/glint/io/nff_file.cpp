@@ -13,7 +13,9 @@
 
 namespace glint {
 
-// The file as read (nff/nff_parts.h); this file writes the two documents.
+// The file as read (nff/nff_parts.h); this file writes the JSON document of
+// `glint convert` and the API from it, and hands it to nff/nff_scene.cpp for
+// the Scene that load_scene returns.
 using namespace nff;
 
 namespace {
@@ -143,234 +145,6 @@ NffScene to_nff_scene(Parts&& parts) {
   return scene;
 }
 
-// --- the loader's document, built in memory ----------------------------------------
-
-// The same document as to_nff_scene's, one part per line (json.h's
-// DocumentBuilder): an error's line names the part, `lines` says which.
-struct NffDocument {
-  json::Document document;
-  struct Part {
-    Section section = Section::none;
-    uint32_t index = 0;
-  };
-  std::vector<Part> lines;  // lines[k]: line k + 1
-  Parts parts;
-};
-
-class DocumentWriter {
- public:
-  DocumentWriter(const Parts& parts, std::vector<NffDocument::Part>& lines)
-      : parts_(parts), b_(parts.filename), lines_(lines) {
-    const size_t parts_count = parts.objects.size() + parts.materials.size() + parts.lights.size() + 20;
-    lines_.reserve(parts_count);
-    lines_.push_back({});  // line 1: the root
-    // A part is at most 20 values and keys of some 50 bytes of keys, and a
-    // polygon's or cone's numbers are a node each, plus an array per vertex.
-    b_.reserve(20 * parts_count + 2 * parts.numbers.size(), 64 * parts_count);
-  }
-
-  json::Document write() {
-    const View& v = parts_.view;
-    b_.begin_object();
-    section("render");
-    part(Section::render, 0, "width").number(v.width);
-    part(Section::render, 1, "height").number(v.height);
-    part(Section::render, 2, "samples_per_pixel").number(1);
-    part(Section::render, 3, "max_depth").number(5);
-    part(Section::render, 4, "background").triple(parts_.background);
-    b_.end();
-    section("camera");
-    part(Section::camera, 0, "position").triple(v.from);
-    part(Section::camera, 1, "look_at").triple(v.at);
-    part(Section::camera, 2, "up").triple(v.up);
-    part(Section::camera, 3, "fov_y").number(v.fov_y);
-    b_.end();
-    if (!parts_.materials.empty()) {
-      section("materials");
-      for (size_t i = 0; i < parts_.materials.size(); ++i) material(i);
-      b_.end();
-    }
-    if (!parts_.lights.empty()) {
-      section("lights", true);
-      const double gray = light_gray(parts_);
-      for (size_t i = 0; i < parts_.lights.size(); ++i) light(i, gray);
-      part(Section::light, static_cast<uint32_t>(parts_.lights.size()));
-      b_.begin_object();
-      b_.key("type");
-      b_.string("ambient");
-      b_.key("ambient");
-      b_.number(gray);
-      b_.end();
-      b_.end();
-    }
-    section("objects", true);
-    for (size_t i = 0; i < parts_.objects.size(); ++i) object(i);
-    b_.end();
-    b_.end();
-    return b_.document();
-  }
-
- private:
-  // So that part(...).number(...) reads as one line.
-  struct Value {
-    json::DocumentBuilder& b;
-    void number(double x) { b.number(x); }
-    void triple(const Vec3& t) { b.triple(t.x, t.y, t.z); }
-  };
-
-  void line(Section s, uint32_t index) {
-    b_.next_line();
-    lines_.push_back({s, index});
-  }
-  // A section's key and opening bracket, on a line of their own.
-  void section(const char* key, bool array = false) {
-    line(Section::none, 0);
-    b_.key(key);
-    if (array) b_.begin_array();
-    else b_.begin_object();
-  }
-  // A member of render or camera, or (without key) an item of a section.
-  Value part(Section s, uint32_t index, const char* key = nullptr) {
-    line(s, index);
-    if (key) b_.key(key);
-    return Value{b_};
-  }
-  void triple(const double* p) { b_.triple(p[0], p[1], p[2]); }
-  void vec(const Vec3& v) { b_.triple(v.x, v.y, v.z); }
-
-  void material(size_t i) {
-    const nff::Material& m = parts_.materials[i];
-    part(Section::material, static_cast<uint32_t>(i), nullptr);
-    b_.key(material_name(static_cast<uint32_t>(i + 1)));
-    b_.begin_object();
-    b_.key("ambient");
-    vec(m.color);
-    b_.key("diffuse");
-    vec(m.color);
-    b_.key("specular");
-    b_.number(m.ks);
-    b_.key("shininess");
-    b_.number(m.shininess);
-    b_.key("reflectivity");
-    b_.number(m.ks);
-    b_.key("transparency");
-    b_.number(m.transparency);
-    if (m.transparency > 0) {
-      b_.key("ior");
-      b_.number(m.ior);
-      b_.key("fresnel");
-      b_.boolean(true);
-    }
-    b_.end();
-  }
-
-  void light(size_t i, double gray) {
-    const nff::Light& l = parts_.lights[i];
-    part(Section::light, static_cast<uint32_t>(i));
-    b_.begin_object();
-    b_.key("type");
-    b_.string("point");
-    b_.key("position");
-    vec(l.position);
-    for (const char* key : {"diffuse", "specular"}) {
-      b_.key(key);
-      if (l.color) vec(*l.color);
-      else b_.number(gray);
-    }
-    b_.end();
-  }
-
-  void object(size_t i) {
-    const nff::Object& o = parts_.objects[i];
-    const double* x = parts_.numbers.data() + o.first;
-    part(Section::object, static_cast<uint32_t>(i));
-    b_.begin_object();
-    b_.key("type");
-    switch (o.shape) {
-      case Shape::sphere:
-        b_.string("sphere");
-        b_.key("center");
-        triple(x);
-        b_.key("radius");
-        b_.number(x[3]);
-        break;
-      case Shape::cylinder:
-        b_.string("cylinder");
-        b_.key("base");
-        triple(x);
-        b_.key("apex");
-        triple(x + 3);
-        b_.key("radius");
-        b_.number(x[6]);
-        b_.key("caps");
-        b_.boolean(false);
-        break;
-      case Shape::cone:
-        b_.string("cone");
-        b_.key("base");
-        triple(x);
-        b_.key("apex");
-        triple(x + 3);
-        b_.key("base_radius");
-        b_.number(x[6]);
-        b_.key("apex_radius");
-        b_.number(x[7]);
-        b_.key("caps");
-        b_.boolean(false);
-        break;
-      case Shape::polygon:
-        b_.string("polygon");
-        b_.key("vertices");
-        b_.begin_array();
-        for (uint32_t k = 0; k < o.vertices; ++k) triple(x + 3 * k);
-        b_.end();
-        if (o.normals) {
-          b_.key("normals");
-          b_.begin_array();
-          for (uint32_t k = 0; k < o.vertices; ++k) triple(x + 3 * (o.vertices + k));
-          b_.end();
-        }
-        break;
-    }
-    if (o.material) {
-      b_.key("material");
-      char name[16];
-      const int n = std::snprintf(name, sizeof name, "f%u", o.material);
-      b_.string(std::string_view(name, static_cast<size_t>(n)));
-    }
-    b_.end();
-  }
-
-  const Parts& parts_;
-  json::DocumentBuilder b_;
-  std::vector<NffDocument::Part>& lines_;
-};
-
-NffDocument nff_document(std::string_view text, const std::string& filename) {
-  Parts parts = read_parts(text, filename);
-  std::vector<NffDocument::Part> lines;
-  json::Document document = DocumentWriter(parts, lines).write();
-  return NffDocument{std::move(document), std::move(lines), std::move(parts)};
-}
-
-NffDocument nff_document(const std::filesystem::path& path) {
-  const std::vector<unsigned char> bytes = read_file(path);
-  return nff_document(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string());
-}
-
-// A loader error in an NFF document, at the entity behind its line.
-Error nff_document_error(const NffDocument& doc, const Error& e) {
-  const SourceLocation& at = e.location();
-  if (at.line >= 1 && static_cast<size_t>(at.line) <= doc.lines.size()) {
-    const NffDocument::Part& p = doc.lines[static_cast<size_t>(at.line) - 1];
-    if (p.section != Section::none) {
-      const auto [path, origin] = origin_of(doc.parts, p.section, p.index);
-      return at_entity(path, origin, e);
-    }
-  }
-  return Error(SourceLocation{doc.parts.filename, 0, 0}, e.message());
-}
-
 }  // namespace
 
 bool is_nff_path(const std::filesystem::path& path) {
@@ -388,29 +162,27 @@ NffScene read_nff_file(const std::filesystem::path& path) {
   return read_nff(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string());
 }
 
-json::Document nff_loader_document(std::string_view text, const std::string& filename) {
-  return nff_document(text, filename).document;
+Scene parse_nff_scene(std::string_view text, const std::string& filename) {
+  const Parts parts = read_parts(text, filename);
+  try {
+    return build_scene(parts);
+  } catch (const std::bad_alloc&) {
+    throw Error(SourceLocation{filename, 0, 0}, "out of memory while loading the scene");
+  }
 }
 
 Scene load_nff_scene(const std::filesystem::path& path) {
-  const NffDocument doc = nff_document(path);
-  Scene scene;
-  try {
-    scene = read_scene_document(doc.document, path.parent_path());
-  } catch (const Error& e) {
-    throw nff_document_error(doc, e);
-  }
-  // The view's angle spans the rows' centers: fov_y follows the rendered height.
-  scene.camera.row_center_angle = doc.parts.view.angle;
-  return scene;
+  const std::vector<unsigned char> bytes = read_file(path);
+  return parse_nff_scene(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string());
 }
 
 std::vector<Error> validate_nff_scene(const std::filesystem::path& path) {
   std::vector<Error> errors;
   try {
-    const NffDocument doc = nff_document(path);
-    for (const Error& e : validate_scene_document(doc.document, path.parent_path()))
-      errors.push_back(nff_document_error(doc, e));
+    const std::vector<unsigned char> bytes = read_file(path);
+    const Parts parts =
+        read_parts(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string());
+    build_scene(parts, &errors);
   } catch (const Error& e) {
     errors.push_back(e);  // the NFF itself is malformed: nothing more can be checked
   } catch (const std::bad_alloc&) {

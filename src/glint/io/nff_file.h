@@ -17,10 +17,6 @@
 
 namespace glint {
 
-namespace json {
-class Document;
-}
-
 // Where one part of the generated document came from.
 struct NffOrigin {
   std::string entity;    // the NFF keyword, for messages: "s", "p", "v", ...
@@ -40,18 +36,14 @@ struct NffScene {
 // True for a path whose extension is .nff, in any case.
 bool is_nff_path(const std::filesystem::path& path);
 
-// The scene of an NFF file, through the JSON loader's checks (load_scene
-// and validate_scene call these for .nff files). The loader's document is
-// built in memory (json::DocumentBuilder), not written out as JSON text and
-// parsed again; whatever the loader finds in it is reported at the NFF
-// entity behind it, as nff_error() words it.
+// The scene of an NFF file (load_scene and validate_scene call these for
+// .nff files): built from the file's parts straight away, no JSON document
+// in between, with the JSON loader's checks on what the mapping makes; each
+// problem is reported at the NFF entity behind it, as nff_error() words it.
 Scene load_nff_scene(const std::filesystem::path& path);
 std::vector<Error> validate_nff_scene(const std::filesystem::path& path);
-
-// The document load_nff_scene hands the loader, alone: the same values, keys
-// and order as json::parse(nff_json_text(read_nff(text, filename)).text),
-// with every value at the line of its part (tests compare the two).
-json::Document nff_loader_document(std::string_view text, const std::string& filename);
+// load_nff_scene of text read elsewhere, named `filename` in messages.
+Scene parse_nff_scene(std::string_view text, const std::string& filename);
 
 // Throws glint::Error("FILE:line:col: what") for every malformed input.
 NffScene read_nff(std::string_view text, const std::string& filename);

@@ -35,26 +35,6 @@ Scene parse_scene(std::string text, const std::string& filename, const std::file
   }
 }
 
-Scene read_scene_document(const json::Document& doc, const std::filesystem::path& base_dir, size_t memory_budget) {
-  try {
-    return SceneReader(doc, base_dir, memory_budget).read();
-  } catch (const std::bad_alloc&) {
-    throw Error(SourceLocation{doc.filename(), 0, 0}, "out of memory while loading the scene");
-  }
-}
-
-std::vector<Error> validate_scene_document(const json::Document& doc, const std::filesystem::path& base_dir) {
-  std::vector<Error> errors;
-  try {
-    SceneReader(doc, base_dir).read(&errors);
-  } catch (const Error& e) {
-    errors.push_back(e);
-  } catch (const std::bad_alloc&) {
-    errors.push_back(Error(SourceLocation{doc.filename(), 0, 0}, "out of memory while loading the scene"));
-  }
-  return errors;
-}
-
 std::vector<Error> validate_scene(const std::filesystem::path& path) {
   if (is_nff_path(path)) return validate_nff_scene(path);
   std::vector<Error> errors;

@@ -21,10 +21,6 @@ namespace glint {
 
 class FileCache;
 
-namespace json {
-class Document;
-}
-
 namespace api {
 struct MeshArrays;
 }
@@ -50,13 +46,6 @@ std::vector<Error> validate_scene(const std::filesystem::path& path);
 Scene parse_scene(std::string text, const std::string& filename, const std::filesystem::path& base_dir = {},
                   size_t memory_budget = default_memory_budget(), const AttachedMeshes* attached = nullptr,
                   FileCache* files = nullptr);
-
-// A document built in memory (json::DocumentBuilder; the NFF reader's), through
-// the same checks as a file's; read_scene_document throws the first problem,
-// validate_scene_document lists them all as validate_scene does.
-Scene read_scene_document(const json::Document& doc, const std::filesystem::path& base_dir,
-                          size_t memory_budget = default_memory_budget());
-std::vector<Error> validate_scene_document(const json::Document& doc, const std::filesystem::path& base_dir);
 
 // Limits the loader enforces beyond the contract, so no input can exhaust
 // memory or the stack; documented in docs/scene-format.md.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace glint {
 
@@ -67,6 +68,15 @@ inline double max_abs_component(const Vec3& v) {
 }
 inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 inline bool is_black(const Vec3& c) { return c.x == 0 && c.y == 0 && c.z == 0; }
+// d / |d| without overflow or underflow of the length (the largest component
+// divides first, so 1e300 or 1e-300 components work), or nullopt for a zero
+// or non-finite d: how a scene's directions are read.
+inline std::optional<Vec3> unit_direction(const Vec3& d) {
+  const double big = max_abs_component(d);
+  if (!(big > 0) || !std::isfinite(big)) return std::nullopt;
+  const Vec3 s = d / big;
+  return s / length(s);
+}
 
 // Mirror direction of d about the normal n (unit n; d need not be unit).
 inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - 2.0 * dot(d, n) * n; }

@@ -172,15 +172,7 @@ class SceneReader {
                (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(v.kind_name())));
     return {number(v[0], index(path, 0)), number(v[1], index(path, 1)), number(v[2], index(path, 2))};
   }
-  // d / |d|, or nullopt for a zero (or non-finite) vector. Divides by the
-  // largest component first, so huge (1e300) or tiny (1e-300) components
-  // neither overflow nor underflow the length.
-  static std::optional<Vec3> unit(const Vec3& d) {
-    const double big = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
-    if (!(big > 0) || !std::isfinite(big)) return std::nullopt;
-    const Vec3 s = d / big;
-    return s / length(s);
-  }
+  static std::optional<Vec3> unit(const Vec3& d) { return unit_direction(d); }
   Vec3 direction(const Value& v, const Path& path) const {
     const auto d = unit(vec3(v, path));
     if (!d) fail(v, path, "must be a non-zero vector");

@@ -1,8 +1,8 @@
 #pragma once
-// The parts of one NFF file as read (io/nff/nff_reader.cpp), before either
-// document is written from them (io/nff_file.cpp): plain structs, so that the
-// JSON document for convert and the API and the loader's in-memory document
-// cannot differ. Internal to io/.
+// The parts of one NFF file as read (io/nff/nff_reader.cpp), before the
+// Scene (io/nff/nff_scene.cpp) or the JSON document of convert and the API
+// (io/nff_file.cpp) is made from them: plain structs, one reading for both.
+// Internal to io/.
 
 #include <cmath>
 #include <cstdint>
@@ -15,12 +15,11 @@
 #include "glint/error.h"
 #include "glint/io/nff_file.h"
 #include "glint/math/vec3.h"
+#include "glint/scene/scene.h"
 
 namespace glint::nff {
 
-// --- the file as read: plain parts, before any JSON ----------------------------
-// Both documents (nlohmann's for convert and the API, the loader's built in
-// memory) are written from these, so they cannot differ.
+// --- the file as read: plain parts ----------------------------------------------
 
 struct Where {
   int line = 0, column = 0;
@@ -80,6 +79,12 @@ inline const char* entity_of(const Object& o) {
 // Reads one NFF file's text; the first problem is thrown as an Error at its
 // file:line:col.
 Parts read_parts(std::string_view text, std::string filename);
+
+// The scene of the parts (nff/nff_scene.cpp), by the same mapping as the
+// JSON document and with the JSON loader's checks, each problem at its
+// entity. With `errors`, problems are collected (one per section, material,
+// light and object) and building goes on; without, the first is thrown.
+Scene build_scene(const Parts& parts, std::vector<Error>* errors = nullptr);
 
 // --- where each part of the document came from ----------------------------------
 

@@ -106,15 +106,6 @@ class Lexer {
   std::optional<std::optional<Token>> peeked_;
 };
 
-// d / |d| without overflow or underflow of the length, or nullopt for a zero
-// or non-finite d (the JSON loader's rule).
-std::optional<Vec3> unit(const Vec3& d) {
-  const double big = max_abs_component(d);
-  if (!(big > 0) || !std::isfinite(big)) return std::nullopt;
-  const Vec3 s = d / big;
-  return s / length(s);
-}
-
 Where where(const Token& t) { return {t.line, t.column}; }
 
 // One NFF file, read entity by entity into Parts.
@@ -245,9 +236,9 @@ class NffReader {
       fail(angle_value,
            "v: angle must be between 0 and 180 degrees, exclusive (got " + printable(angle_value.text) + ")");
     if (at == from) fail(at_t, "v: \"at\" must differ from \"from\" (the view needs a direction)");
-    const std::optional<Vec3> forward = unit(at - from);
+    const std::optional<Vec3> forward = unit_direction(at - from);
     if (!forward) fail(at_t, "v: \"at\" is too far from \"from\" (the distance overflows)");
-    const std::optional<Vec3> up_unit = unit(up);
+    const std::optional<Vec3> up_unit = unit_direction(up);
     if (!up_unit) fail(up_t, "v: up must be a non-zero vector");
     if (!(length(cross(*forward, *up_unit)) > 1e-9)) fail(up_t, "v: up is parallel to the view direction");
     // Orthogonalized against the view direction, as the contract writes it;
