@@ -233,6 +233,32 @@ Json* find(Json& root, const std::vector<Step>& steps, bool create, std::string_
   return at;
 }
 
+// find() for reading: the document is left as it is. A step into the arrays
+// of an attached mesh writes that one object out into `scratch` and goes on
+// there; the result points into the document or into `scratch`.
+const Json* lookup(const Json& root, const std::vector<Step>& steps, const AttachedMeshes& meshes,
+                   std::optional<Json>& scratch) {
+  const Json* at = &root;
+  for (const Step& s : steps) {
+    if (s.is_index) {
+      if (!at->is_array() || s.index >= at->size()) return nullptr;
+      at = &(*at)[s.index];
+      continue;
+    }
+    if (s.key == kAttachedMeshKey) return nullptr;
+    if (!scratch && is_array_key(s.key) && is_attached(*at)) {
+      scratch = *at;
+      expand(*scratch, meshes);
+      at = &*scratch;
+    }
+    if (!at->is_object()) return nullptr;
+    const auto it = at->find(s.key);
+    if (it == at->end()) return nullptr;
+    at = &*it;
+  }
+  return at;
+}
+
 Json parse_value(std::string_view json_text, std::string_view what) {
   Json v = Json::parse(json_text.begin(), json_text.end(), nullptr, false);
   if (v.is_discarded())
@@ -397,18 +423,18 @@ const std::filesystem::path& Scene::base_dir() const { return state_->base_dir; 
 const std::string& Scene::name() const { return state_->name; }
 
 std::string Scene::get(std::string_view path) const {
-  // find() wants a mutable root; documents are small (large meshes are
-  // attached arrays, written out only when asked for, as here).
-  Json copy = state_->document;
-  Json* v = find(copy, parse_path(path), false, path, &state_->meshes);
+  std::optional<Json> scratch;
+  const Json* v = lookup(state_->document, parse_path(path), state_->meshes, scratch);
   if (!v) throw Error(SourceLocation{state_->name, 0, 0}, std::string(path), "not in the scene");
-  expand_all(*v, state_->meshes);
-  return v->dump();
+  if (state_->meshes.empty()) return v->dump();
+  Json value = *v;  // attached arrays below it are written out (large meshes: only when asked for, as here)
+  expand_all(value, state_->meshes);
+  return value.dump();
 }
 
 bool Scene::has(std::string_view path) const {
-  Json copy = state_->document;
-  return find(copy, parse_path(path), false, path, &state_->meshes) != nullptr;
+  std::optional<Json> scratch;
+  return lookup(state_->document, parse_path(path), state_->meshes, scratch) != nullptr;
 }
 
 namespace {
