@@ -677,6 +677,74 @@ TEST(TriangleLeaves, SameAnswersAsBruteForce) {
   EXPECT_GT(blocked, 200);
 }
 
+// An untransformed polygon of several triangles puts each triangle in the
+// tree as a primitive of its own (in the leaves of plain triangles): the
+// same hits as the whole polygon tested alone (brute force) on a 144-gon (a
+// fan, with a grid), a non-convex star (ear clipping) and a smooth `pp`
+// hexagon, for rays through their vertices and edges too. Through an edge
+// two triangles may each claim the point: then the object and t agree (to
+// the ulp) and the barycentrics are the other triangle's.
+TEST(PolygonTriangles, SameHitsAsTheWholePolygon) {
+  Scene scene;
+  std::vector<Vec3> gear, star, hexagon, normals;
+  for (int k = 0; k < 144; ++k) {
+    const double a = 2 * 3.141592653589793 * k / 144;
+    gear.emplace_back(3 * std::cos(a), 3 * std::sin(a), 0.2 * std::cos(a));  // tilted: not axis-aligned
+  }
+  for (int k = 0; k < 18; ++k) {
+    const double a = 2 * 3.141592653589793 * k / 18, r = k % 2 ? 1.0 : 2.5;
+    star.emplace_back(5 + r * std::cos(a), 0.5, r * std::sin(a));
+  }
+  for (int k = 0; k < 6; ++k) {
+    const double a = 2 * 3.141592653589793 * k / 6;
+    hexagon.emplace_back(-5 + std::cos(a), std::sin(a), 1);
+    normals.push_back(normalize(Vec3(0.3 * std::cos(a), 0.3 * std::sin(a), 1)));
+  }
+  for (auto [vertices, n] : {std::pair{gear, std::vector<Vec3>{}}, {star, {}}, {hexagon, normals}}) {
+    PolygonBuild b = make_polygon(vertices, n);
+    ASSERT_EQ(b.error, "");
+    add_polygon(scene, std::move(b.polygon));
+  }
+  add_sphere(scene, Sphere{{0, 0, 4}, 1});
+  ASSERT_GT(scene.polygons[0].triangles.size(), 100u);
+  const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
+  const auto brute = build_brute_force(scene);
+  Rng rng(11);
+  int hits = 0, blocked = 0, other_triangle = 0;
+  for (int i = 0; i < 6000; ++i) {
+    const Polygon& p = scene.polygons[static_cast<size_t>(i % 3)];
+    const Vec3& v0 = p.vertices[static_cast<size_t>(rng.next_double() * p.vertices.size())];
+    const Vec3& v1 = p.vertices[static_cast<size_t>(rng.next_double() * p.vertices.size())];
+    // At a vertex, on the segment between two (an edge or across the
+    // polygon), or near it.
+    Vec3 to = i % 5 == 0 ? v0 : v0 + rng.next_double() * (v1 - v0);
+    if (i % 3 == 0) to += Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, 0) * 0.5;
+    const Vec3 from = to + Vec3(rng.next_double() - 0.5, rng.next_double() - 0.5, rng.next_double() - 0.5) * 10.0;
+    Ray ray{from, to - from};
+    const auto a = bvh->intersect(ray), b = brute->intersect(ray);
+    ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << i;
+    if (a) {
+      ++hits;
+      EXPECT_EQ(a->object, b->object) << "ray " << i;
+      EXPECT_NEAR(a->t, b->t, 1e-14 * b->t) << "ray " << i;
+      if (a->primitive == b->primitive) {
+        EXPECT_EQ(a->t, b->t) << "ray " << i;
+        EXPECT_EQ(a->b1, b->b1) << "ray " << i;
+        EXPECT_EQ(a->b2, b->b2) << "ray " << i;
+      } else {
+        ++other_triangle;
+      }
+    }
+    ray.t_max = rng.next_double() * 1.2;
+    const bool occluded = brute->occluded(ray);
+    blocked += occluded;
+    EXPECT_EQ(bvh->occluded(ray), occluded) << "ray " << i;
+  }
+  EXPECT_GT(hits, 3000);
+  EXPECT_GT(blocked, 600);
+  EXPECT_LT(other_triangle, hits / 20);
+}
+
 // Infinite planes are tested before the tree from their own numbers, with
 // the division skipped when the crossing is behind the origin: the same
 // closest hits (object, t bit for bit), occlusion and packet hits as testing

@@ -195,19 +195,50 @@ bool occludes_object(const Scene& scene, uint32_t index, const Ray& world_ray, c
 
 namespace {
 
-// The leaf's untransformed triangle (a triangle object or a polygon of one
-// triangle) as intersect_object tests it, or nothing.
-std::optional<Triangle> plain_triangle(const Scene& scene, uint32_t object) {
-  const Object& o = scene.objects[object];
+// What one primitive of the top-level BVH is: an object, or one triangle of
+// an untransformed polygon of several (each its own primitive, so the tree
+// finds a big polygon's triangles as a mesh's: NFF's 144-vertex gear faces).
+inline constexpr uint32_t kWholeObject = ~0u;
+struct Part {
+  uint32_t object = 0;
+  uint32_t triangle = kWholeObject;  // into Polygon::triangles
+};
+
+// The untransformed triangle of a part (a triangle object, a polygon of one
+// triangle, one triangle of a polygon) as its hit test takes it, or nothing.
+std::optional<Triangle> plain_triangle(const Scene& scene, const Part& part) {
+  const Object& o = scene.objects[part.object];
   if (o.transform != kNoTransform) return std::nullopt;
   if (o.type == ShapeType::triangle) return scene.triangles[o.shape];
   if (o.type == ShapeType::polygon) {
     const Polygon& p = scene.polygons[o.shape];
-    if (p.triangles.size() != 1) return std::nullopt;
-    const auto& t = p.triangles[0];
+    if (part.triangle == kWholeObject && p.triangles.size() != 1) return std::nullopt;
+    const auto& t = p.triangles[part.triangle == kWholeObject ? 0 : part.triangle];
     return Triangle{p.vertices[t[0]], p.vertices[t[1]], p.vertices[t[2]]};
   }
   return std::nullopt;
+}
+
+// The scene's finite objects as the tree's primitives, with their bounds.
+void make_parts(const Scene& scene, std::vector<Part>& parts, std::vector<Bounds3>& bounds) {
+  for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    if (o.type == ShapeType::plane) continue;
+    if (o.type == ShapeType::polygon && o.transform == kNoTransform) {
+      const Polygon& p = scene.polygons[o.shape];
+      if (p.triangles.size() > 1) {
+        for (uint32_t k = 0; k < p.triangles.size(); ++k) {
+          Bounds3 b;
+          for (const uint32_t v : p.triangles[k]) b.extend(p.vertices[v]);
+          parts.push_back({i, k});
+          bounds.push_back(b);
+        }
+        continue;
+      }
+    }
+    parts.push_back({i, kWholeObject});
+    bounds.push_back(object_bounds(scene, i));
+  }
 }
 
 // Two levels: one BVH per mesh (built once, shared by its instances) and one
@@ -219,18 +250,20 @@ class BvhAccelerator final : public Accelerator {
     build_options.threads = options.threads;
     mesh_bvhs_.reserve(scene.meshes.size());
     for (const Mesh& mesh : scene.meshes) mesh_bvhs_.push_back(build_mesh_bvh(mesh, build_options));
-    std::vector<Bounds3> bounds(scene.objects.size());
-    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+    for (uint32_t i = 0; i < scene.objects.size(); ++i)
       if (scene.objects[i].type == ShapeType::plane)
         planes_.push_back({scene.planes[scene.objects[i].shape], i, scene.objects[i].transform != kNoTransform});
-      else bounds[i] = object_bounds(scene, i);
-    }
+    std::vector<Part> parts;
+    std::vector<Bounds3> bounds;
+    make_parts(scene, parts, bounds);
     bvh_ = build_bvh(bounds, build_options, scene.camera.position);
     slots_.reserve(bvh_.primitives.size());
-    for (const uint32_t object : bvh_.primitives) {
-      const Object& o = scene.objects[object];
+    for (const uint32_t primitive : bvh_.primitives) {
+      const Part& part = parts[primitive];
+      const Object& o = scene.objects[part.object];
       Slot slot;
-      slot.object = object;
+      slot.object = part.object;
+      slot.triangle = part.triangle;
       slot.is_sphere = o.type == ShapeType::sphere && o.transform == kNoTransform;
       if (slot.is_sphere) slot.sphere = scene.spheres[o.shape];
       slots_.push_back(slot);
@@ -244,7 +277,9 @@ class BvhAccelerator final : public Accelerator {
         bool triangles = true;
         Triangle tri[4];
         for (uint32_t i = 0; i < count; ++i) {
-          const std::optional<Triangle> t = triangles ? plain_triangle(scene, slots_[first + i].object) : std::nullopt;
+          const Slot& slot = slots_[first + i];
+          const std::optional<Triangle> t =
+              triangles ? plain_triangle(scene, {slot.object, slot.triangle}) : std::nullopt;
           triangles = t.has_value();
           if (t) tri[i] = *t;
         }
@@ -287,8 +322,9 @@ class BvhAccelerator final : public Accelerator {
                    ? intersect_mesh(mesh, &mesh_bvh, single_mesh_, ray, best)
                    : intersect_mesh(mesh, &mesh_bvh, single_mesh_, to_object_space(scene_, object, ray), best);
     } else {
-      traverse_closest_leaves(bvh_, ray,
-                              [&](uint32_t first, uint32_t count, Ray& r) { return leaf_closest(first, count, r, best, found); });
+      traverse_closest_leaves(bvh_, ray, [&](uint32_t first, uint32_t count, Ray& r) {
+        return leaf_closest(first, count, r, best, found);
+      });
     }
     if (!found) result.reset();
     return result;
@@ -419,49 +455,63 @@ class BvhAccelerator final : public Accelerator {
   // The objects of a leaf of the tree (slots first .. first + count) against
   // `r`: a nearer hit into `best` (`found` says whether it holds one), and
   // r.t_max lowered to it. Of two hits at the same distance the lower object
-  // index wins, as in brute force: the answer must not depend on the order
-  // leaves are visited in, which differs between a ray alone and in a packet.
-  // So a leaf is tested up to just past the best distance (its objects there
-  // are compared), and r.t_max is set back to that distance after.
+  // index wins, as in brute force, and within a polygon the lower triangle
+  // index: the answer must not depend on the order leaves are visited in,
+  // which differs between a ray alone and in a packet. So a leaf is tested up
+  // to just past the best distance (its objects there are compared), and
+  // r.t_max is set back to that distance after.
   bool leaf_closest(uint32_t first, uint32_t count, Ray& r, Hit& best, bool& found) const {
     // Locals, not the references: the compiler then keeps them in registers.
     bool have = found, hit = false;
     double best_t = have ? best.t : r.t_max;
-    uint32_t best_object = have ? best.object : 0;
+    uint32_t best_object = have ? best.object : 0, best_part = have ? best.primitive : 0;
     if (have) r.t_max = double_above(best_t);
-    auto better = [&](double t, uint32_t object) {
-      return !have || t < best_t || (t == best_t && object < best_object);
+    auto better = [&](double t, uint32_t object, uint32_t part) {
+      return !have || t < best_t ||
+             (t == best_t && (object < best_object || (object == best_object && part < best_part)));
     };
-    auto took = [&](double t, uint32_t object) {
+    auto took = [&](double t, uint32_t object, uint32_t part) {
       have = hit = true;
       best_t = t;
       best_object = object;
+      best_part = part;
       r.t_max = double_above(t);
     };
     // Any object through intersect_object, into a scratch hit: `best` keeps
-    // its hit when the new one loses the tie.
-    auto test_object = [&](uint32_t object) {
+    // its hit when the new one loses the tie; a polygon's triangle alone.
+    auto test_slot = [&](const Slot& slot) {
+      if (slot.triangle != kWholeObject) {
+        const Polygon& p = scene_.polygons[scene_.objects[slot.object].shape];
+        const auto& tri = p.triangles[slot.triangle];
+        const auto h = intersect_triangle(Triangle{p.vertices[tri[0]], p.vertices[tri[1]], p.vertices[tri[2]]}, r);
+        if (h && better(h->t, slot.object, slot.triangle)) {
+          set_hit(best, h->t, slot.object, h->b1, h->b2, 0, slot.triangle);
+          best.vertices = {};
+          took(h->t, slot.object, slot.triangle);
+        }
+        return;
+      }
       Hit h;
-      if (intersect_object(scene_, object, r, h, &mesh_bvhs_) && better(h.t, object)) {
+      if (intersect_object(scene_, slot.object, r, h, &mesh_bvhs_) && better(h.t, slot.object, h.primitive)) {
         best = h;
-        took(h.t, object);
+        took(h.t, slot.object, h.primitive);
       }
     };
     if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
       for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1)
-        test_object(slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object);
+        test_slot(slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))]);
     } else {
       for (uint32_t i = first; i < first + count; ++i) {
         const Slot& slot = slots_[i];
         if (!slot.is_sphere) {
-          test_object(slot.object);
+          test_slot(slot);
           continue;
         }
         // intersect_object's sphere case, without its two lookups.
-        if (const auto t = intersect_sphere(slot.sphere, r); t && better(*t, slot.object)) {
+        if (const auto t = intersect_sphere(slot.sphere, r); t && better(*t, slot.object, 0)) {
           set_hit(best, *t, slot.object, 0, 0, 0, 0);
           best.vertices = {};
-          took(*t, slot.object);
+          took(*t, slot.object, 0);
         }
       }
     }
@@ -472,19 +522,23 @@ class BvhAccelerator final : public Accelerator {
 
   // The first object of a leaf found to block `r`, leaving out `skip`; kNone when none does.
   uint32_t leaf_blocker(uint32_t first, uint32_t count, const Ray& r, uint32_t skip) const {
+    auto blocks = [&](const Slot& slot) {
+      if (slot.object == skip) return false;
+      if (slot.is_sphere) return intersect_sphere(slot.sphere, r).has_value();
+      if (slot.triangle == kWholeObject) return occludes_object(scene_, slot.object, r, &mesh_bvhs_);
+      const Polygon& p = scene_.polygons[scene_.objects[slot.object].shape];
+      const auto& tri = p.triangles[slot.triangle];
+      return intersect_triangle(Triangle{p.vertices[tri[0]], p.vertices[tri[1]], p.vertices[tri[2]]}, r).has_value();
+    };
     if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
       for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
-        const uint32_t object = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))].object;
-        if (object != skip && occludes_object(scene_, object, r, &mesh_bvhs_)) return object;
+        const Slot& slot = slots_[first + static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(lanes)))];
+        if (blocks(slot)) return slot.object;
       }
       return kNone;
     }
-    for (uint32_t i = first; i < first + count; ++i) {
-      const Slot& slot = slots_[i];
-      if (slot.object != skip && (slot.is_sphere ? intersect_sphere(slot.sphere, r).has_value()
-                                                 : occludes_object(scene_, slot.object, r, &mesh_bvhs_)))
-        return slot.object;
-    }
+    for (uint32_t i = first; i < first + count; ++i)
+      if (blocks(slots_[i])) return slots_[i].object;
     return kNone;
   }
 
@@ -565,11 +619,12 @@ class BvhAccelerator final : public Accelerator {
  private:
   static constexpr uint32_t kNone = ~0u;
   // What a leaf tests, in the tree's order (slots_[k] is bvh_.primitives[k]):
-  // the object, and an untransformed sphere's own numbers, so that a
+  // the object (or one triangle of a polygon), and an untransformed sphere's own numbers, so that a
   // sphereflake's leaves read one array instead of objects[] and spheres[].
   struct Slot {
     Sphere sphere;
     uint32_t object = 0;
+    uint32_t triangle = kWholeObject;  // a polygon's triangle (Part)
     bool is_sphere = false;
   };
   // An infinite plane, tested before the tree (its own numbers, as for spheres).
