@@ -137,7 +137,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from spd_scenes import triangulate  # noqa: E402  (ear clipping for concave polygons)
+from spd_scenes import add, cross, dot, length, mul, sub, triangulate  # noqa: E402  (vectors; ear clipping)
 
 DEFAULT_SCENES = [os.path.join(HERE, "spd", "balls.nff"), os.path.join(HERE, "spd", "tetra.nff")]
 STAND_INS = "gears,mount,rings,teapot,tree"
@@ -155,30 +155,6 @@ class Unsupported(Exception):
 
 # ---------------------------------------------------------------------------
 # small vector helpers
-
-
-def sub(a, b):
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-def add(a, b):
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-def mul(a, s):
-    return (a[0] * s, a[1] * s, a[2] * s)
-
-
-def dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def length(a):
-    return math.sqrt(dot(a, a))
 
 
 def normalize(a):
