@@ -3,12 +3,14 @@
 // of the acceleration structure, ownership.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <vector>
 
 #include "glint/accel/accelerator.h"
 #include "glint/api/scene_state.h"
@@ -92,6 +94,47 @@ TEST(Api, EditsChangeTheRenderAsTheFileWould) {
   edited.replace(edited.find("[-3, 5, 4]"), 10, "[2, 4, 3]");
   edited.replace(edited.find("\"width\": 48"), 11, "\"samples_per_pixel\": 4, \"width\": 48");
   EXPECT_EQ(glint::api::render(scene).image.rgb, internal_render(edited).rgb);
+}
+
+TEST(Api, RenderCameraAndLightEditsReadThoseAloneToTheSameScene) {
+  // An edit inside render, camera or lights reads those three alone into a
+  // copy of the scene before; what it gives is what loading the edited
+  // document whole gives (here with a mesh file and textures beside them),
+  // and so are its refusals.
+  const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "scenes" / "textures";
+  std::ifstream in(dir / "textures.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Scene scene = Scene::from_json(text, dir, "textures.json");
+  const size_t key = scene.geometry_key();
+  scene.set("render.width", 64);
+  scene.set("render.height", 40);
+  scene.set("camera.fov_y", 35.0);
+  scene.set("camera.position", std::array<double, 3>{1, 3, 9});
+  scene.set_json("lights[0]", R"({"type": "spot", "position": [2, 6, 4], "direction": [0, -1, -0.3], "cutoff": 40})");
+  scene.append_json("lights", R"({"type": "directional", "direction": [0.2, -1, 0.1], "color": 0.3})");
+  scene.update_json("render", R"({"shading_model": "blinn-phong", "max_depth": 3})");
+  scene.erase("lights[1]");
+  EXPECT_EQ(scene.geometry_key(), key);
+  const Scene whole = Scene::from_json(scene.to_json(), dir, "textures.json");
+  EXPECT_EQ(whole.geometry_key(), key);
+  EXPECT_EQ(scene.light_count(), whole.light_count());
+  EXPECT_EQ(glint::api::render(scene).image.rgb, glint::api::render(whole).image.rgb);
+  const std::string before = scene.to_json();
+  for (const auto& [path, value, message] : std::vector<std::array<std::string, 3>>{
+           {"camera.fov_y", "180", "camera.fov_y: must be between 0 and 180 degrees, exclusive (got 180)"},
+           {"render.width", "0", "render.width: must be >= 1 (got 0)"},
+           {"lights[0].cutoff", "-1", "lights[0].cutoff: must be in (0, 180] degrees (got -1)"},
+           {"camera.up", "[0, 0, 0]", "camera.up: must be a non-zero vector"}}) {
+    try {
+      scene.set_json(path, value);
+      ADD_FAILURE() << path << " = " << value << " was accepted";
+    } catch (const glint::Error& e) {
+      EXPECT_EQ(e.message(), message);
+      EXPECT_EQ(e.path(), path);
+      EXPECT_EQ(e.location().file, "textures.json");
+    }
+  }
+  EXPECT_EQ(scene.to_json(), before);
 }
 
 TEST(Api, MaterialAndLightEditsReuseTheAccelerationStructure) {

@@ -309,7 +309,8 @@ Json at_pointer(const Json& document, const char* pointer) {
 
 std::shared_ptr<const Scene::State> make_state(Json document, glint::Scene scene, AttachedMeshes meshes,
                                                std::optional<NffView> nff, std::filesystem::path base_dir,
-                                               std::string name, std::shared_ptr<FileCache> files) {
+                                               std::string name, std::shared_ptr<FileCache> files,
+                                               std::optional<size_t> geometry_key = std::nullopt) {
   auto state = std::make_shared<Scene::State>();
   state->files = std::move(files);
   // Arrays no object names any more (the object was removed, replaced or
@@ -323,7 +324,7 @@ std::shared_ptr<const Scene::State> make_state(Json document, glint::Scene scene
   // height are the file's (docs/nff.md).
   if (nff && at_pointer(document, "/camera") == nff->camera && at_pointer(document, "/render/height") == nff->height)
     scene.camera.row_center_angle = nff->angle;
-  state->geometry_key = compute_geometry_key(document, scene);
+  state->geometry_key = geometry_key ? *geometry_key : compute_geometry_key(document, scene);
   state->document = std::move(document);
   state->meshes = std::move(meshes);
   state->nff = std::move(nff);
@@ -439,14 +440,39 @@ bool Scene::has(std::string_view path) const {
 
 namespace {
 
-// Applies `edit` to a copy of the document (and of the table of attached
-// arrays, which shares them) and checks the result; the scene changes only
-// when the loader accepts it.
+// Whether an edit at `path` is checked by reading its section alone: render,
+// camera and lights name nothing else in the scene, and nothing else names
+// them but an animation's keys (then the whole scene is read again).
+bool reads_alone(const Json& document, std::string_view path) {
+  if (document.contains("animation")) return false;
+  const std::string_view top = path.substr(0, path.find_first_of(".["));
+  return top == "render" || top == "camera" || top == "lights";
+}
+
+// Applies `edit` (at `path`) to a copy of the document (and of the table of
+// attached arrays, which shares them) and checks the result; the scene
+// changes only when the loader accepts it. An edit of render, camera or
+// lights reads those three alone, with the loader's checks and words, into a
+// copy of the scene before: its objects, meshes and textures are not read
+// again, and its geometry key holds.
 using Edit = std::function<void(Json&, AttachedMeshes&)>;
-std::shared_ptr<const Scene::State> edited(const Scene::State& from, const Edit& edit) {
+std::shared_ptr<const Scene::State> edited(const Scene::State& from, std::string_view path, const Edit& edit) {
   Json document = from.document;
   AttachedMeshes meshes = from.meshes;
   edit(document, meshes);
+  if (reads_alone(document, path)) {
+    Json alone = Json::object();
+    for (const char* key : {"render", "camera", "lights"})
+      if (const auto it = document.find(key); it != document.end()) alone[key] = *it;
+    alone["objects"] = Json::array();
+    glint::Scene part = check(alone, {}, from);
+    glint::Scene scene = *from.scene;
+    scene.render = part.render;
+    scene.camera = part.camera;
+    scene.lights = std::move(part.lights);
+    return make_state(std::move(document), std::move(scene), std::move(meshes), from.nff, from.base_dir, from.name,
+                      from.files, from.geometry_key);
+  }
   glint::Scene scene = check(document, meshes, from);
   return make_state(std::move(document), std::move(scene), std::move(meshes), from.nff, from.base_dir, from.name,
                     from.files);
@@ -499,33 +525,33 @@ void check_mesh_arrays(const MeshArrays& a, const std::string& scene_name) {
 }  // namespace
 
 Scene reread_files(const Scene& scene) {
-  return Scene(edited(*scene.state(), [](Json&, AttachedMeshes&) {}));
+  return Scene(edited(*scene.state(), "", [](Json&, AttachedMeshes&) {}));
 }
 
 void Scene::set_json(std::string_view path, std::string_view json_value) {
   Json value = parse_value(json_value, path);
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, std::move(value)); });
+  state_ = edited(*state_, path, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, std::move(value)); });
 }
 void Scene::set(std::string_view path, double value) {
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, value); });
+  state_ = edited(*state_, path, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, value); });
 }
 void Scene::set(std::string_view path, int value) {
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, value); });
+  state_ = edited(*state_, path, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, value); });
 }
 void Scene::set(std::string_view path, bool value) {
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, value); });
+  state_ = edited(*state_, path, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, value); });
 }
 void Scene::set(std::string_view path, const std::array<double, 3>& value) {
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) {
+  state_ = edited(*state_, path, [&](Json& d, AttachedMeshes& m) {
     set_value(d, m, path, Json::array({value[0], value[1], value[2]}));
   });
 }
 void Scene::set_string(std::string_view path, std::string_view value) {
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, std::string(value)); });
+  state_ = edited(*state_, path, [&](Json& d, AttachedMeshes& m) { set_value(d, m, path, std::string(value)); });
 }
 
 void Scene::erase(std::string_view path) {
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) {
+  state_ = edited(*state_, path, [&](Json& d, AttachedMeshes& m) {
     std::vector<Step> steps = parse_path(path);
     const Step last = steps.back();
     steps.pop_back();
@@ -544,7 +570,7 @@ void Scene::erase(std::string_view path) {
 
 void Scene::append_json(std::string_view array_path, std::string_view json_value) {
   Json value = parse_value(json_value, array_path);
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) {
+  state_ = edited(*state_, array_path, [&](Json& d, AttachedMeshes& m) {
     Json* at = find(d, parse_path(array_path), true, array_path, &m);
     if (!at) throw Error(SourceLocation{}, std::string(array_path), "no such place in the scene");
     if (at->is_null()) *at = Json::array();
@@ -556,7 +582,7 @@ void Scene::append_json(std::string_view array_path, std::string_view json_value
 void Scene::update_json(std::string_view path, std::string_view json_object) {
   Json values = parse_value(json_object, path);
   if (!values.is_object()) throw Error(SourceLocation{}, std::string(path), "expected an object of keys to set");
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) {
+  state_ = edited(*state_, path, [&](Json& d, AttachedMeshes& m) {
     Json* at = find(d, parse_path(path), true, path, &m);  // a missing section ("render") is added
     if (at && at->is_null()) *at = Json::object();
     if (!at || !at->is_object()) throw Error(SourceLocation{}, std::string(path), "no such object in the scene");
@@ -584,7 +610,7 @@ void Scene::add_mesh(MeshArrays arrays, std::string_view object_json) {
   const uint64_t id = next_mesh_id();
   object[kAttachedMeshKey] = id;
   auto shared = std::make_shared<const MeshArrays>(std::move(arrays));
-  state_ = edited(*state_, [&](Json& d, AttachedMeshes& m) {
+  state_ = edited(*state_, "objects", [&](Json& d, AttachedMeshes& m) {
     m.emplace(id, shared);
     Json* objects = find(d, parse_path("objects"), true, "objects", &m);
     if (objects->is_null()) *objects = Json::array();
