@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes glint's input readers with libFuzzer (see fuzz/README.md):
 #   scripts/fuzz.sh smoke                  every target over its seeds and fuzz/regressions/,
-#                                          then mutations: 16 s each, about a minute in all (scripts/test.sh)
+#                                          then mutations: 12 s each, under 2 minutes in all (scripts/test.sh)
 #   scripts/fuzz.sh MINUTES [TARGET...]    a campaign: each target (default: all) MINUTES
 # The targets are built in build-asan/ by scripts/build-sanitized.sh, the
 # configuration the sanitizer half of the tests uses (clang, ASan, UBSan,
@@ -12,11 +12,13 @@ cd "$(dirname "$0")/.."
 MODE="${1:-5}"
 shift || true
 TARGETS=("$@")
-ALL=(fuzz_scene_loader fuzz_json fuzz_nff fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_gltf fuzz_mesh_glb)
+ALL=(fuzz_scene_loader fuzz_json fuzz_nff fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_gltf fuzz_mesh_glb
+     fuzz_texture_png fuzz_texture_jpg fuzz_texture_bmp fuzz_texture_tga fuzz_texture_hdr fuzz_texture_pfm fuzz_texture_exr)
 [ ${#TARGETS[@]} -eq 0 ] && TARGETS=("${ALL[@]}")
 if [ "$MODE" = smoke ]; then
-  # About a minute in all on 2 cores; each target's time includes its seeds.
-  SECONDS_PER_TARGET=16
+  # 14 targets, 2 at a time on 2 cores: under 2 minutes in all; each
+  # target's time includes its seeds.
+  SECONDS_PER_TARGET=12
 else
   case "$MODE" in ''|*[!0-9.]*) echo "usage: scripts/fuzz.sh smoke | MINUTES [TARGET...]" >&2; exit 2;; esac
   SECONDS_PER_TARGET=$(awk -v m="$MODE" 'BEGIN { s = int(m * 60); print (s < 1 ? 1 : s) }')
@@ -39,6 +41,8 @@ fuzz_one() {
     fuzz_mesh_ply) seeds=(fuzz/corpus/ply); dict=fuzz/mesh.dict; regressions=fuzz/regressions/mesh ;;
     fuzz_mesh_gltf) seeds=(fuzz/corpus/gltf); dict=fuzz/gltf.dict; regressions=fuzz/regressions/mesh ;;
     fuzz_mesh_glb) seeds=(fuzz/corpus/glb); dict=fuzz/gltf.dict; regressions=fuzz/regressions/mesh ;;
+    fuzz_texture_*) seeds=(fuzz/corpus/texture-"${target#fuzz_texture_}"); dict=fuzz/texture.dict
+      regressions=fuzz/regressions/texture ;;
   esac
   # New inputs go to a corpus kept in the build folder (the first directory);
   # the seeds and regressions in the repository are only read.

@@ -21,6 +21,7 @@
 #include "glint/io/json.h"
 #include "glint/io/mesh_file.h"
 #include "glint/io/scene_loader.h"
+#include "glint/io/texture_file.h"
 #include "needs_assimp.h"
 
 namespace glint {
@@ -29,6 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kFuzzDir = fs::path(GLINT_SOURCE_DIR) / "fuzz";
+constexpr size_t kTextureBudget = size_t(512) << 20;  // fuzz_texture_*'s
 
 std::string read_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -84,6 +86,13 @@ void expect_only_glint_errors(const fs::path& file) {
   }
   if (ext == ".obj" || ext == ".ply" || ext == ".gltf" || ext == ".glb") {
     EXPECT_EQ(only_glint_errors([&] { load_mesh_file(file); }), "") << "load_mesh_file on " << file;
+  }
+  if (ext == ".png" || ext == ".jpg" || ext == ".bmp" || ext == ".tga" || ext == ".hdr" || ext == ".pfm" ||
+      ext == ".exr") {
+    // As fuzz_texture_* read them, with their memory budget.
+    EXPECT_EQ(only_glint_errors([&] { load_texture_image(file, kTextureBudget); }), "")
+        << "load_texture_image on " << file;
+    return;
   }
   const std::string text = read_bytes(file);
   const std::string name = file.filename().string();
@@ -318,6 +327,34 @@ TEST(FuzzRegressions, GltfBufferDataUriAssimpWouldMisreadIsRefused) {
       << e;
   e = mesh_error("gltf-buffer-uri-starting-with-0x10.gltf");
   EXPECT_NE(e.find("buffers[0].uri: starts with a control character (not a URI)"), std::string::npos) << e;
+}
+
+// Found by fuzz_texture_*: each an error now, without a double free, a leak
+// (the sanitized suite checks both) or a hang.
+std::string texture_error(const std::string& name) {
+  try {
+    load_texture_image(kFuzzDir / "regressions/texture" / name, kTextureBudget);
+  } catch (const Error& e) {
+    return e.message();
+  }
+  return "no error";
+}
+
+TEST(FuzzRegressions, ExrWhosePixelsFailToDecodeIsFreedOnce) {
+  EXPECT_TRUE(texture_error("exr-corrupt-pixels-double-free.exr").starts_with("cannot read texture: corrupt EXR data"))
+      << texture_error("exr-corrupt-pixels-double-free.exr");
+}
+
+TEST(FuzzRegressions, HdrWithARunOfLengthZeroIsRefused) {
+  EXPECT_EQ(texture_error("hdr-run-of-length-zero.hdr"),
+            "cannot read texture: corrupt or unsupported image: a run-length encoded scanline of the Radiance file "
+            "holds a run of length 0 or ends early");
+}
+
+TEST(FuzzRegressions, TgaClaimingMoreThanTheBudgetIsRefusedBeforeDecoding) {
+  EXPECT_EQ(texture_error("tga-claims-a-gigabyte.tga"),
+            "cannot read texture: an image of 64264x1536 pixels needs 2.21 GiB, more than the memory budget of "
+            "512 MiB");
 }
 
 }  // namespace

@@ -35,6 +35,7 @@
 #include "glint/error.h"
 #include "glint/image/srgb8.h"
 #include "glint/io/file_io.h"
+#include "glint/io/hdr_scan.h"
 
 namespace glint {
 namespace fs = std::filesystem;
@@ -429,9 +430,11 @@ Image decode_ppm(const fs::path& path, const Bytes& bytes) {
   if (w < 0 || h < 0 || maxval < 1 || !start) fail_read(path, "corrupt PPM header");
   if (!valid_image_size(w, h)) fail_read(path, "invalid PPM size " + std::to_string(w) + "x" + std::to_string(h));
 
-  Image image(static_cast<int>(w), static_cast<int>(h));
   const std::size_t sample_bytes = maxval > 255 ? 2 : 1;  // 16-bit samples are big-endian
-  check_data_size(path, "PPM", image.rgb.size() * sample_bytes, bytes.size() - *start);
+  // The data first: a header of a few bytes can claim gigabytes.
+  check_data_size(path, "PPM", 3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * sample_bytes,
+                  bytes.size() - *start);
+  Image image(static_cast<int>(w), static_cast<int>(h));
   const unsigned char* p = bytes.data() + *start;
   for (std::size_t i = 0; i < image.rgb.size(); ++i) {
     const unsigned value = sample_bytes == 2 ? (unsigned{p[2 * i]} << 8) | p[2 * i + 1] : p[i];
@@ -455,9 +458,11 @@ Image decode_pfm(const fs::path& path, const Bytes& bytes) {
   }
   if (!valid_image_size(w, h)) fail_read(path, "invalid PFM size " + std::to_string(w) + "x" + std::to_string(h));
 
-  Image image(static_cast<int>(w), static_cast<int>(h));
+  // The data the header claims must be there before the image is made: a
+  // header of a few bytes can claim gigabytes.
   const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   check_data_size(path, "PFM", pixels * static_cast<std::size_t>(channels) * 4, bytes.size() - *start);
+  Image image(static_cast<int>(w), static_cast<int>(h));
   const bool little_endian = scale < 0.0;  // the sign of the scale gives the byte order
   const unsigned char* p = bytes.data() + *start;
   for (long file_row = 0; file_row < h; ++file_row) {
@@ -534,7 +539,14 @@ ExrPlanes decode_exr_planes(const fs::path& path, const Bytes& bytes, std::vecto
     ~ImageGuard() { FreeEXRImage(&image); }
   } loaded;
   raw_error = nullptr;
+  // When the pixel data fail to decode, tinyexr (1.0.1) frees the image
+  // itself, by its channel count, which it sets only on success, and leaves
+  // the pointers set: the channels leaked and the guard freed the array a
+  // second time. With the count given beforehand its free is whole, and the
+  // image is reset after it.
+  loaded.image.num_channels = header.num_channels;
   if (LoadEXRImageFromMemory(&loaded.image, &header, bytes.data(), bytes.size(), &raw_error) != TINYEXR_SUCCESS) {
+    InitEXRImage(&loaded.image);
     const ExrErrorText error(raw_error);
     fail_read(path, std::string("corrupt EXR data") + (error ? ": " + std::string(error.get()) : ""));
   }
@@ -558,6 +570,7 @@ Image decode_hdr(const fs::path& path, const Bytes& bytes) {
   // stbi_loadf would also take a PNG and undo a gamma it guesses: only real
   // Radiance files are read here.
   if (!stbi_is_hdr_from_memory(bytes.data(), size)) fail_read(path, "not a Radiance HDR file");
+  if (!hdr_decoding_ends(bytes.data(), bytes.size())) fail_read(path, std::string("corrupt image: ") + kHdrEndless);
   int w = 0, h = 0, file_channels = 0;
   struct StbiDeleter {
     void operator()(float* p) const { stbi_image_free(p); }

@@ -12,6 +12,7 @@
 
 #include "glint/error.h"
 #include "glint/io/file_io.h"
+#include "glint/io/hdr_scan.h"
 #include "glint/io/image_file.h"
 
 namespace glint {
@@ -47,11 +48,18 @@ TextureImage from_image(const Image& image) {
 // stb decodes everything it knows; which loader we call decides the transfer
 // function: stbi_loadf for .hdr only (it would apply a 2.2 gamma to 8-bit
 // files), and our exact sRGB decode for 8- and 16-bit ones.
-TextureImage decode_with_stb(const fs::path& path, const std::vector<unsigned char>& bytes) {
+TextureImage decode_with_stb(const fs::path& path, const std::vector<unsigned char>& bytes, size_t memory_budget) {
   if (bytes.size() > static_cast<size_t>(std::numeric_limits<int>::max())) fail(path, "file too large");
   const auto* data = bytes.data();
   const int size = static_cast<int>(bytes.size());
   int w = 0, h = 0, channels = 0;
+  // The size the header claims, checked before stb allocates and decodes it
+  // (a few bytes of TGA or Radiance RLE can claim a gigabyte): the texels
+  // (12 bytes a pixel) and stb's buffer (up to 12 more).
+  if (stbi_info_from_memory(data, size, &w, &h, &channels) && w > 0 && h > 0) {
+    const std::string excess = exceeds_budget(24.0 * w * h, memory_budget);
+    if (!excess.empty()) fail(path, "an image of " + std::to_string(w) + "x" + std::to_string(h) + " pixels " + excess);
+  }
   TextureImage out;
   auto reason = [] {
     const char* r = stbi_failure_reason();
@@ -63,6 +71,7 @@ TextureImage decode_with_stb(const fs::path& path, const std::vector<unsigned ch
     out.texels.resize(static_cast<size_t>(w) * static_cast<size_t>(h));
   };
   if (stbi_is_hdr_from_memory(data, size)) {
+    if (!hdr_decoding_ends(data, bytes.size())) fail(path, std::string("corrupt or unsupported image: ") + kHdrEndless);
     const std::unique_ptr<float, StbFree> p(stbi_loadf_from_memory(data, size, &w, &h, &channels, 3));
     if (!p) fail(path, reason());
     allocate();
@@ -91,7 +100,7 @@ TextureImage decode_with_stb(const fs::path& path, const std::vector<unsigned ch
 
 const char* supported_texture_extensions() { return ".png, .jpg, .jpeg, .bmp, .tga, .hdr, .exr, .pfm"; }
 
-TextureImage load_texture_image(const fs::path& path) {
+TextureImage load_texture_image(const fs::path& path, size_t memory_budget) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   try {
@@ -115,7 +124,7 @@ TextureImage load_texture_image(const fs::path& path) {
         fail(path, reason_of(e));
       }
       if (bytes.empty()) fail(path, "the file is empty");
-      out = decode_with_stb(path, bytes);
+      out = decode_with_stb(path, bytes, memory_budget);
     } else {
       fail(path, "unsupported format '" + path.extension().string() +
                      "' (supported: " + supported_texture_extensions() + ")");

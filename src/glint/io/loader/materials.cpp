@@ -121,7 +121,7 @@ uint32_t SceneReader::read_texture(const Value& v, const Path& path) {
 uint32_t SceneReader::texture_image(const std::filesystem::path& file) {
   const std::string key = file_key(file);
   if (auto it = texture_image_index_.find(key); it != texture_image_index_.end()) return it->second;
-  scene_.texture_images.push_back(files_ ? *files_->texture(file) : load_texture_image(file));
+  scene_.texture_images.push_back(files_ ? *files_->texture(file) : load_texture_image(file, memory_budget_));
   const auto index = static_cast<uint32_t>(scene_.texture_images.size() - 1);
   texture_image_index_[key] = index;
   return index;
