@@ -8,18 +8,14 @@
 // must be refused by glint's own checks, not run out of memory.
 // For OBJ, whatever follows a line "#MTL" is written beside it as m.mtl, so
 // the fuzzer mutates an OBJ and the MTL it names ("mtllib m.mtl") together.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <string>
 #include <string_view>
 
 #include "glint/error.h"
 #include "glint/io/mesh_file.h"
+#include "scratch.h"
 
 namespace {
 
@@ -27,31 +23,12 @@ constexpr size_t kMemoryBudget = size_t(512) << 20;
 std::filesystem::path scratch_dir;
 std::filesystem::path scratch_file;
 
-void remove_scratch() {
-  std::error_code ec;
-  std::filesystem::remove_all(scratch_dir, ec);
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  const char* tmp = std::getenv("TMPDIR");
-  std::string dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/glint-fuzz-XXXXXX";
-  if (!mkdtemp(dir.data())) {
-    std::perror("fuzz_mesh: mkdtemp");
-    std::abort();
-  }
-  scratch_dir = dir;
+  scratch_dir = glint_fuzz::make_scratch_dir("fuzz_mesh");
   scratch_file = scratch_dir / ("mesh." GLINT_MESH_EXT);
-  std::atexit(remove_scratch);
   return 0;
-}
-
-static bool write_file(const std::filesystem::path& path, std::string_view bytes) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) return false;
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  return std::fclose(f) == 0 && written;
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -64,7 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
   }
   // A full /tmp is not a finding.
-  if (!write_file(scratch_file, mesh) || !write_file(scratch_dir / "m.mtl", mtl)) return 0;
+  if (!glint_fuzz::write_file(scratch_file, mesh) || !glint_fuzz::write_file(scratch_dir / "m.mtl", mtl)) return 0;
   try {
     const glint::MeshFile loaded = glint::load_mesh_file(scratch_file, kMemoryBudget);
     (void)loaded;

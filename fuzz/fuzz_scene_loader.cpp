@@ -6,48 +6,25 @@
 // error and goes on reading after one) on the same text, from a scratch file:
 // it must not throw at all, and it must find no error exactly when
 // parse_scene loads the scene.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "glint/error.h"
 #include "glint/io/scene_loader.h"
+#include "scratch.h"
 
 namespace {
 
-std::filesystem::path scratch_dir;
 std::filesystem::path scratch_file;
-
-void remove_scratch() {
-  std::error_code ec;
-  std::filesystem::remove_all(scratch_dir, ec);
-}
-
-bool write_scratch(const uint8_t* data, size_t size) {
-  std::FILE* f = std::fopen(scratch_file.c_str(), "wb");
-  if (!f) return false;
-  const bool ok = std::fwrite(data, 1, size, f) == size;
-  return std::fclose(f) == 0 && ok;
-}
 
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  const char* tmp = std::getenv("TMPDIR");
-  std::string dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/glint-fuzz-XXXXXX";
-  if (!mkdtemp(dir.data())) {
-    std::perror("fuzz_scene_loader: mkdtemp");
-    std::abort();
-  }
-  scratch_dir = dir;
-  scratch_file = scratch_dir / "fuzz.json";
-  std::atexit(remove_scratch);
+  scratch_file = glint_fuzz::make_scratch_dir("fuzz_scene_loader") / "fuzz.json";
   return 0;
 }
 
@@ -62,14 +39,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // The one way bad input may fail.
   }
 
-  if (!write_scratch(data, size)) return 0;                                      // a full /tmp is not a finding
+  // A full /tmp is not a finding.
+  if (!glint_fuzz::write_file(scratch_file, std::string_view(reinterpret_cast<const char*>(data), size))) return 0;
   const std::vector<glint::Error> errors = glint::validate_scene(scratch_file);  // throws nothing
   if (errors.empty() != loaded) {
     // Relative file references (meshes) resolved against another folder:
     // compare with parse_scene reading from where validate_scene did.
     bool loaded_there = false;
     try {
-      glint::Scene scene = glint::parse_scene(text, "fuzz.json", scratch_dir);
+      glint::Scene scene = glint::parse_scene(text, "fuzz.json", glint_fuzz::scratch_dir());
       (void)scene;
       loaded_there = true;
     } catch (const glint::Error&) {

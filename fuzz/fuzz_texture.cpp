@@ -7,55 +7,30 @@
 // _jpg, _bmp, _tga, _hdr, _pfm and _exr. The reader gets a memory budget of
 // 512 MiB, well under the fuzzer's 2 GiB RSS limit: a header that claims
 // more must be refused by glint's own check, not run out of memory.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <string>
 #include <string_view>
 
 #include "glint/error.h"
 #include "glint/io/texture_file.h"
+#include "scratch.h"
 
 namespace {
 
 constexpr size_t kMemoryBudget = size_t(512) << 20;
-std::filesystem::path scratch_dir;
 std::filesystem::path scratch_file;
-
-void remove_scratch() {
-  std::error_code ec;
-  std::filesystem::remove_all(scratch_dir, ec);
-}
-
-bool write_file(const std::filesystem::path& path, std::string_view bytes) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) return false;
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  return std::fclose(f) == 0 && written;
-}
 
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  const char* tmp = std::getenv("TMPDIR");
-  std::string dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/glint-fuzz-XXXXXX";
-  if (!mkdtemp(dir.data())) {
-    std::perror("fuzz_texture: mkdtemp");
-    std::abort();
-  }
-  scratch_dir = dir;
-  scratch_file = scratch_dir / ("texture." GLINT_TEXTURE_EXT);
-  std::atexit(remove_scratch);
+  scratch_file = glint_fuzz::make_scratch_dir("fuzz_texture") / ("texture." GLINT_TEXTURE_EXT);
   return 0;
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // A full /tmp is not a finding.
-  if (!write_file(scratch_file, std::string_view(reinterpret_cast<const char*>(data), size))) return 0;
+  if (!glint_fuzz::write_file(scratch_file, std::string_view(reinterpret_cast<const char*>(data), size))) return 0;
   try {
     const glint::TextureImage image = glint::load_texture_image(scratch_file, kMemoryBudget);
     (void)image;
