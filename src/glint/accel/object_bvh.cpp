@@ -213,8 +213,7 @@ std::optional<Triangle> plain_triangle(const Scene& scene, const Part& part) {
   if (o.type == ShapeType::polygon) {
     const Polygon& p = scene.polygons[o.shape];
     if (part.triangle == kWholeObject && p.triangles.size() != 1) return std::nullopt;
-    const auto& t = p.triangles[part.triangle == kWholeObject ? 0 : part.triangle];
-    return Triangle{p.vertices[t[0]], p.vertices[t[1]], p.vertices[t[2]]};
+    return polygon_triangle(p, part.triangle == kWholeObject ? 0 : part.triangle);
   }
   return std::nullopt;
 }
@@ -481,9 +480,7 @@ class BvhAccelerator final : public Accelerator {
     // its hit when the new one loses the tie; a polygon's triangle alone.
     auto test_slot = [&](const Slot& slot) {
       if (slot.triangle != kWholeObject) {
-        const Polygon& p = scene_.polygons[scene_.objects[slot.object].shape];
-        const auto& tri = p.triangles[slot.triangle];
-        const auto h = intersect_triangle(Triangle{p.vertices[tri[0]], p.vertices[tri[1]], p.vertices[tri[2]]}, r);
+        const auto h = intersect_triangle(slot_triangle(slot), r);
         if (h && better(h->t, slot.object, slot.triangle)) {
           set_hit(best, h->t, slot.object, h->b1, h->b2, 0, slot.triangle);
           best.vertices = {};
@@ -526,9 +523,7 @@ class BvhAccelerator final : public Accelerator {
       if (slot.object == skip) return false;
       if (slot.is_sphere) return intersect_sphere(slot.sphere, r).has_value();
       if (slot.triangle == kWholeObject) return occludes_object(scene_, slot.object, r, &mesh_bvhs_);
-      const Polygon& p = scene_.polygons[scene_.objects[slot.object].shape];
-      const auto& tri = p.triangles[slot.triangle];
-      return intersect_triangle(Triangle{p.vertices[tri[0]], p.vertices[tri[1]], p.vertices[tri[2]]}, r).has_value();
+      return intersect_triangle(slot_triangle(slot), r).has_value();
     };
     if (const uint32_t leaf = leaf_[first]; leaf != kNone) {
       for (int lanes = triangle_leaves_[leaf].maybe_hit(r); lanes; lanes &= lanes - 1) {
@@ -627,6 +622,10 @@ class BvhAccelerator final : public Accelerator {
     uint32_t triangle = kWholeObject;  // a polygon's triangle (Part)
     bool is_sphere = false;
   };
+  // The polygon triangle a slot of one holds (slot.triangle != kWholeObject).
+  Triangle slot_triangle(const Slot& slot) const {
+    return polygon_triangle(scene_.polygons[scene_.objects[slot.object].shape], slot.triangle);
+  }
   // An infinite plane, tested before the tree (its own numbers, as for spheres).
   struct PlaneSlot {
     Plane plane;

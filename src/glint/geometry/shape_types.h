@@ -71,6 +71,12 @@ struct Polygon {
   std::shared_ptr<const PolygonGrid> grid;
 };
 
+// Triangle k of a polygon's triangulation, in the polygon's own space.
+inline Triangle polygon_triangle(const Polygon& p, uint32_t k) {
+  const std::array<uint32_t, 3>& t = p.triangles[k];
+  return {p.vertices[t[0]], p.vertices[t[1]], p.vertices[t[2]]};
+}
+
 // A uniform grid over a polygon's bounding box in the two coordinates other
 // than its normal's largest one; each cell lists, in ascending order, the
 // triangles whose (projected) boxes overlap it.

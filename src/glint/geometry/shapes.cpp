@@ -191,9 +191,7 @@ std::optional<PolygonHit> intersect_polygon(const Polygon& polygon, const Ray& r
   // The triangles of a simple planar polygon do not overlap: the first hit
   // is the hit (a ray through a shared edge may find either neighbour).
   const auto test = [&](uint32_t i) -> std::optional<PolygonHit> {
-    const auto& tri = polygon.triangles[i];
-    if (auto h = intersect_triangle(Triangle{v[tri[0]], v[tri[1]], v[tri[2]]}, ray))
-      return PolygonHit{h->t, h->b1, h->b2, i};
+    if (auto h = intersect_triangle(polygon_triangle(polygon, i), ray)) return PolygonHit{h->t, h->b1, h->b2, i};
     return std::nullopt;
   };
   if (polygon.grid && std::isfinite(t_plane)) {
