@@ -32,7 +32,7 @@ int run_explain(const ExplainArgs& args) {
                 std::to_string(frame_count(loaded) - 1));
   Scene scene = scene_at_frame(loaded, args.frame);
   RenderSettings& r = scene.render;
-  if (args.width) r.width = *args.width;
+  if (args.width) r.width = image_width(scene.camera, *args.width);
   if (args.height) r.height = *args.height;
   if (args.max_depth) r.max_depth = *args.max_depth;
   if (args.shading_model)

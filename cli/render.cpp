@@ -119,8 +119,8 @@ class ProgressBar {
 };
 
 // The command line's settings over the scene's.
-void apply_overrides(const RenderArgs& args, RenderSettings& r) {
-  if (args.width) r.width = *args.width;
+void apply_overrides(const RenderArgs& args, const Camera& camera, RenderSettings& r) {
+  if (args.width) r.width = image_width(camera, *args.width);
   if (args.height) r.height = *args.height;
   if (args.spp) r.samples_per_pixel = *args.spp;
   if (args.max_depth) r.max_depth = *args.max_depth;
@@ -282,7 +282,7 @@ int run_render_local(const RenderArgs& args) {
   std::vector<unsigned char> description;
   Scene scene = load_for_render(args, description);
   const std::vector<FrameOutput> plan = plan_frames(scene, args.output_path, args.frames);
-  apply_overrides(args, scene.render);
+  apply_overrides(args, scene.camera, scene.render);
   if (args.stats_json && plan.size() > 1)
     throw Error("--stats-json describes one image: render one frame at a time (--frames N) to get each one's");
 
@@ -366,7 +366,7 @@ mpi::Prepared prepare_on_rank(const RenderArgs& args) {
   p.scene = load_scene(args.scene_path);
   p.inputs_digest = scene_inputs_digest(read_file(args.scene_path), p.scene);
   p.plan = plan_frames(p.scene, args.output_path, args.frames);
-  apply_overrides(args, p.scene.render);
+  apply_overrides(args, p.scene.camera, p.scene.render);
   for (const FrameOutput& out : p.plan) {
     check_output_path(out.path);
     check_image_fits(out.path, p.scene.render);  // a frame split in tiles over ranks is written after its render

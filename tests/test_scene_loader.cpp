@@ -576,8 +576,11 @@ TEST(SceneLoaderErrors, UnknownKeysGetAHint) {
                "unknown key \"frobnicate\" (expected one of \"render\", \"camera\"");
   expect_error_with(R"("objects": [], "render": {@"widht": 10})",
                     "render: unknown key \"widht\" (did you mean \"width\"?)");
+  expect_error(R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], @"fovy": 30}, "objects": []})",
+               "camera: unknown key \"fovy\" (did you mean \"fov_y\"?)");
+  // "fov" is the fisheye's key: on a perspective camera the hint is the same.
   expect_error(R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], @"fov": 30}, "objects": []})",
-               "camera: unknown key \"fov\" (did you mean \"fov_y\"?)");
+               "(this one is perspective; did you mean \"fov_y\"?)");
   expect_error_with(R"("objects": [], "materials": {"m": {@"shinyness": 3}})",
                     "materials.m: unknown key \"shinyness\" (did you mean \"shininess\"?)");
   expect_light_error(R"({"type": "point", "position": [0, 0, 0], @"colour": 1})",
@@ -844,6 +847,84 @@ TEST(SceneLoaderLimits, AllMeshesTogetherMustFitTheMemoryBudget) {
         0u)
         << e.what();
   }
+}
+
+}  // namespace
+}  // namespace glint
+
+// --- cameras, atmosphere and occlusion beyond the seed -----------------------
+
+namespace glint {
+namespace {
+
+TEST(SceneLoaderBeyondSeed, NewCameraKeysAreRead) {
+  const Scene fish = parse(R"({"camera": {"type": "fisheye", "fov": 220, "position": [0, 0, 5], "look_at": [0, 0, 0]},
+                               "objects": []})");
+  EXPECT_EQ(fish.camera.type, CameraType::fisheye);
+  EXPECT_EQ(fish.camera.fisheye_fov, 220);
+  EXPECT_EQ(parse(R"({"camera": {"type": "fisheye", "position": [0, 0, 5], "look_at": [0, 0, 0]}, "objects": []})")
+                .camera.fisheye_fov,
+            180);  // the default
+  const Scene lens = parse(R"({"render": {"width": 100},
+      "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "aperture": 0.5, "focus_distance": 3,
+                 "stereo": {"eye_separation": 0.1}}, "objects": []})");
+  EXPECT_EQ(lens.camera.aperture, 0.5);
+  EXPECT_EQ(lens.camera.focus_distance, 3);
+  EXPECT_EQ(lens.camera.eye_separation, 0.1);
+  EXPECT_EQ(lens.render.width, 200);  // both eyes
+  EXPECT_EQ(parse(R"({"camera": {"type": "equirectangular", "position": [0, 0, 5], "look_at": [0, 0, 0]},
+                      "objects": []})")
+                .camera.type,
+            CameraType::equirectangular);
+}
+
+TEST(SceneLoaderBeyondSeed, FogAndOcclusionAreRead) {
+  const Scene s = parse_with(R"("render": {"background": [0.1, 0.2, 0.3], "fog": {"type": "exp2", "density": 0.5}},
+      "lights": [{"type": "ambient", "ambient": 1, "occlusion": {"samples": 8, "distance": 2.5}}], "objects": [])");
+  ASSERT_TRUE(s.render.fog);
+  EXPECT_EQ(s.render.fog->type, FogType::exp2);
+  EXPECT_EQ(s.render.fog->density, 0.5);
+  expect_vec(s.render.fog->color, {0.1, 0.2, 0.3}, "fog color defaults to the background");
+  EXPECT_EQ(s.lights[0].occlusion_samples, 8);
+  EXPECT_EQ(s.lights[0].occlusion_distance, 2.5);
+  const Scene l = parse_with(R"("render": {"fog": {"type": "linear", "color": 1, "start": 1, "end": 4}}, "objects": [])");
+  EXPECT_EQ(l.render.fog->start, 1);
+  EXPECT_EQ(l.render.fog->end, 4);
+}
+
+TEST(SceneLoaderBeyondSeed, Errors) {
+  const std::string p = R"("position": [0, 0, 5], "look_at": [0, 0, 0])";
+  expect_error(R"({"camera": {"type": "fisheye", "fov": @361, )" + p + R"(}, "objects": []})", "(0, 360]");
+  expect_error(R"({"camera": {"type": "fisheye", "fov": @0, )" + p + R"(}, "objects": []})", "(0, 360]");
+  expect_error(R"({"camera": {"type": @"fishy", )" + p + R"(}, "objects": []})", "did you mean \"fisheye\"");
+  expect_error(R"({"camera": {@"fov": 90, )" + p + R"(}, "objects": []})", "applies to fisheye cameras only");
+  expect_error(R"({"camera": {"type": "orthographic", @"aperture": 1, )" + p + R"(}, "objects": []})",
+               "applies to perspective cameras only");
+  expect_error(R"({"camera": {"aperture": @-1, )" + p + R"(}, "objects": []})", "must be >= 0");
+  expect_error(R"({"camera": {"focus_distance": @0, )" + p + R"(}, "objects": []})", "must be > 0");
+  expect_error(R"({"camera": {"stereo": {"eye_separation": @0}, )" + p + R"(}, "objects": []})", "must be > 0");
+  expect_error(R"({"camera": {"stereo": @{}, )" + p + R"(}, "objects": []})", "missing required key");
+  expect_error_with(R"("render": {"fog": {"type": @"mist"}}, "objects": [])", "unknown fog type");
+  expect_error_with(R"("render": {"fog": @{"color": 1}}, "objects": [])", "missing required key \"type\"");
+  expect_error_with(R"("render": {"fog": {"type": "exp", @"start": 1, "density": 1}}, "objects": [])",
+                    "does not apply to exp fog");
+  expect_error_with(R"("render": {"fog": {"type": "exp", "density": @0}}, "objects": [])", "must be > 0");
+  expect_error_with(R"("render": {"fog": @{"type": "exp2"}}, "objects": [])", "missing required key \"density\"");
+  expect_error_with(R"("render": {"fog": {"type": "linear", "start": 5, "end": @5}}, "objects": [])",
+                    "must be greater than \"start\"");
+  expect_error_with(R"("render": {"fog": {"type": "linear", "start": @-1, "end": 5}}, "objects": [])", "must be >= 0");
+  expect_error_with(R"("render": {"fog": {"type": "linear", "end": 5, "color": @[1, -1, 0]}}, "objects": [])",
+                    "color components must be >= 0");
+  expect_error_with(R"("render": {"background": 0, "environment": @{"file": "sky.hdr"}}, "objects": [])",
+                    "either \"background\" or \"environment\"");
+  expect_error_with(R"("render": {"environment": {"file": @"no-such-sky.hdr"}}, "objects": [])", "not found");
+  expect_error_with(R"("render": {"environment": {@"rotat": 3, "file": "x.hdr"}}, "objects": [])",
+                    "did you mean \"rotate\"");
+  expect_light_error(R"({"type": "point", "position": [0, 1, 0], @"occlusion": {"samples": 4}})",
+                     "not valid for a point light");
+  expect_light_error(R"({"type": "ambient", "occlusion": {"samples": @0}})", "must be >= 1");
+  expect_light_error(R"({"type": "ambient", "occlusion": {"samples": 4, "distance": @-2}})", "must be > 0");
+  expect_light_error(R"({"type": "ambient", "occlusion": @{"distance": 2}})", "missing required key \"samples\"");
 }
 
 }  // namespace

@@ -115,6 +115,7 @@ Json node_json(const Scene& scene, const RayTrace& t) {
         lj["samples"] = lt.samples;
         lj["unblocked_samples"] = lt.lit_samples;
       }
+      if (lt.visibility) lj["occlusion"] = {{"samples", light.occlusion_samples}, {"visibility", *lt.visibility}};
       lights.push_back(std::move(lj));
     }
     hit["lights"] = std::move(lights);
@@ -129,6 +130,9 @@ Json node_json(const Scene& scene, const RayTrace& t) {
     hit["refraction"] = child(t.refraction_weight, t.refraction);
     node["hit"] = std::move(hit);
   }
+  // color = f (the sum above) + (1 - f) fog color
+  if (t.fog) node["fog"] = {{"f", *t.fog}, {"color", vec(scene.render.fog->color)}};
+  if (t.environment_uv) node["environment"] = {{"uv", {t.environment_uv->u, t.environment_uv->v}}};
   node["color"] = vec(t.color);
   return node;
 }
@@ -151,7 +155,11 @@ void node_text(const Scene& scene, const RayTrace& t, const std::string& indent,
   out += indent + "ray (depth " + std::to_string(t.depth) + ") from " + fmt(t.ray.origin) + " toward " +
          fmt(t.ray.direction) + "\n";
   if (!t.hit) {
-    out += indent + "  hits nothing: background " + fmt(t.color) + "\n";
+    if (t.environment_uv)
+      out += indent + "  hits nothing: environment at uv (" + fmt(t.environment_uv->u) + ", " +
+             fmt(t.environment_uv->v) + ") " + fmt(t.color) + "\n";
+    else
+      out += indent + "  hits nothing: background " + fmt(t.color) + "\n";
     return;
   }
   const Material& m = scene.materials[t.surface.material];
@@ -166,6 +174,7 @@ void node_text(const Scene& scene, const RayTrace& t, const std::string& indent,
     std::string line = indent + "  light " + std::to_string(lt.index) + " (" + light_type_name(light.type) + "): ";
     if (light.type == LightType::ambient) {
       line += "ambient " + fmt(lt.terms.ambient);
+      if (lt.visibility) line += ", occlusion: " + fmt(*lt.visibility) + " of the directions open";
     } else {
       line += "l " + fmt(lt.l) + ", n.l " + fmt(lt.n_dot_l);
       if (!(lt.n_dot_l > 0) && light.type != LightType::area) {
@@ -194,6 +203,9 @@ void node_text(const Scene& scene, const RayTrace& t, const std::string& indent,
     out += indent + "  refraction, weight " + fmt(t.refraction_weight) + ":\n";
     node_text(scene, *t.refraction, indent + "    ", out);
   }
+  if (t.fog)
+    out += indent + "  fog: f " + fmt(*t.fog) + " of the sum, " + fmt(1.0 - *t.fog) + " of " +
+           fmt(scene.render.fog->color) + "\n";
   out += indent + "  = " + fmt(t.color) + "\n";
 }
 

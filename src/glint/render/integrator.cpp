@@ -9,197 +9,12 @@
 
 #include "glint/accel/packet_slots.h"
 #include "glint/geometry/shapes.h"
+#include "glint/render/camera.h"
 #include "glint/render/stratified.h"
 #include "glint/render/texture.h"
 
 namespace glint {
 
-namespace {
-
-const Transform* xf_of(const Scene& scene, const Object& object) {
-  return object.transform == kNoTransform ? nullptr : &scene.transforms[object.transform];
-}
-
-// The hit point in the object's own space, from the ray (as the
-// intersection test saw it: same t).
-Vec3 object_point(const Scene& scene, const Object& object, const Ray& ray, double t) {
-  const Transform* xf = xf_of(scene, object);
-  return xf ? xf->inverse_point(ray.origin) + t * xf->inverse_vector(ray.direction) : ray.at(t);
-}
-
-// Point and normal from object space to world space (normal through the
-// inverse transpose), into sp.
-void to_world(const Transform* xf, const Vec3& p_obj, const Vec3& n_obj, SurfacePoint& sp) {
-  sp.p = xf ? xf->point(p_obj) : p_obj;
-  sp.geometric_normal = xf ? normalize(xf->normal(n_obj)) : n_obj;
-}
-
-// A cylinder's or cone's hit: the lateral surface's outward normal, or a
-// cap's axis direction away from the solid (docs: "Quadric and polygon
-// normals"). The point is put back on the surface it hit, which removes
-// the rounding of the ray's arithmetic.
-void cone_geometry(const Cone& c, int part, const Vec3& p_obj, const Transform* xf, SurfacePoint& sp) {
-  const Vec3 rel = p_obj - c.base;
-  const double h = dot(rel, c.axis);
-  const Vec3 radial = rel - h * c.axis;
-  const double rl = length(radial);
-  if (part == kConeBaseCap || part == kConeApexCap) {
-    const bool apex = part == kConeApexCap;
-    to_world(xf, (apex ? c.apex : c.base) + radial, apex ? c.axis : -c.axis, sp);
-    return;
-  }
-  const double k = (c.apex_radius - c.base_radius) / c.length;
-  const double hc = std::clamp(h, 0.0, c.length);
-  // The side's gradient: across the axis, tilted by the slope k (against the
-  // axis where the cone narrows toward the apex).
-  Vec3 out = rl > 0.0 ? radial / rl : c.ref_u;
-  const Vec3 p_side = c.base + hc * c.axis + (c.base_radius + k * hc) * out;
-  to_world(xf, rl > 0.0 ? p_side : p_obj, normalize(out - k * c.axis), sp);
-}
-
-// A polygon's hit: the point on the triangle that was hit, the polygon's
-// normal (first three vertices, by the right-hand rule in world space, as for
-// triangles) and, with vertex normals, their interpolation on that fan triangle.
-void polygon_geometry(const Polygon& poly, const Hit& hit, const Transform* xf, SurfacePoint& sp) {
-  const std::array<uint32_t, 3>& tri = poly.triangles[hit.primitive];
-  const Vec3& v0 = poly.vertices[tri[0]];
-  const Vec3 p_obj = v0 + hit.b1 * (poly.vertices[tri[1]] - v0) + hit.b2 * (poly.vertices[tri[2]] - v0);
-  sp.p = xf ? xf->point(p_obj) : p_obj;
-  if (xf) {
-    const Vec3 e1 = xf->vector(poly.vertices[1] - poly.vertices[0]);
-    const Vec3 e2 = xf->vector(poly.vertices[2] - poly.vertices[0]);
-    sp.geometric_normal = normalize(cross(e1, e2));
-  } else {
-    sp.geometric_normal = poly.normal;
-  }
-  sp.shading_normal = sp.geometric_normal;
-  if (poly.normals.empty()) return;
-  Vec3 n[3];
-  for (int i = 0; i < 3; ++i) {
-    n[i] = poly.normals[tri[i]];  // unit (the loader normalized them)
-    if (xf) n[i] = normalize(xf->normal(n[i]));
-  }
-  const Vec3 s = (1.0 - hit.b1 - hit.b2) * n[0] + hit.b1 * n[1] + hit.b2 * n[2];
-  const double len = length(s);
-  if (len > 0.0 && std::isfinite(len)) sp.shading_normal = s / len;
-}
-
-// Where the hit is and which way the surface faces there.
-SurfacePoint evaluate_geometry(const Scene& scene, const Ray& ray, const Hit& hit) {
-  const Object& object = scene.objects[hit.object];
-  SurfacePoint sp;
-  sp.material = object.material;
-  switch (object.type) {
-    case ShapeType::sphere: {
-      const Sphere& s = scene.spheres[object.shape];
-      Vec3 p_obj;
-      if (object.transform == kNoTransform) {
-        p_obj = ray.at(hit.t);
-      } else {
-        const Transform& xf = scene.transforms[object.transform];
-        p_obj = xf.inverse_point(ray.origin) + hit.t * xf.inverse_vector(ray.direction);
-      }
-      // Project back onto the sphere: removes the hit point's rounding error.
-      const Vec3 n_obj = normalize(p_obj - s.center);
-      p_obj = s.center + s.radius * n_obj;
-      if (object.transform == kNoTransform) {
-        sp.p = p_obj;
-        sp.geometric_normal = n_obj;
-      } else {
-        const Transform& xf = scene.transforms[object.transform];
-        sp.p = xf.point(p_obj);
-        sp.geometric_normal = normalize(xf.normal(n_obj));
-      }
-      break;
-    }
-    case ShapeType::box: {
-      Vec3 n_obj = box_face_normal(hit.face);
-      sp.p = ray.at(hit.t);
-      if (object.transform != kNoTransform) n_obj = scene.transforms[object.transform].normal(n_obj);
-      sp.geometric_normal = normalize(n_obj);
-      break;
-    }
-    case ShapeType::triangle: {
-      const Triangle& t = scene.triangles[object.shape];
-      const Vec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0;
-      sp.p = t.v0 + hit.b1 * e1 + hit.b2 * e2;
-      sp.geometric_normal = normalize(cross(e1, e2));
-      break;
-    }
-    case ShapeType::mesh: {
-      const Mesh& mesh = scene.meshes[object.shape];
-      const Triangle t = to_triangle(hit.vertices);
-      const Vec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0;
-      const Vec3 p_obj = t.v0 + hit.b1 * e1 + hit.b2 * e2;
-      Vec3 ng = cross(e1, e2);
-      const Transform* xf = object.transform == kNoTransform ? nullptr : &scene.transforms[object.transform];
-      sp.p = xf ? xf->point(p_obj) : p_obj;
-      sp.geometric_normal = normalize(xf ? xf->normal(ng) : ng);
-      sp.shading_normal = sp.geometric_normal;
-      // Meshes only shaded flat have no vertex normals (scene loader).
-      if (object.smooth && mesh.corner_normals.size() == mesh.indices.size()) {
-        const Vec3f* corner = &mesh.corner_normals[3 * static_cast<size_t>(hit.primitive)];
-        Vec3 n0 = to_vec3(corner[0]), n1 = to_vec3(corner[1]), n2 = to_vec3(corner[2]);
-        if (xf) {
-          // Vertex normals through the inverse transpose, each normalized
-          // before interpolation (the contract's order).
-          n0 = normalize(xf->normal(n0));
-          n1 = normalize(xf->normal(n1));
-          n2 = normalize(xf->normal(n2));
-        }
-        const Vec3 n = (1.0 - hit.b1 - hit.b2) * n0 + hit.b1 * n1 + hit.b2 * n2;
-        const double len = length(n);
-        if (len > 0.0 && std::isfinite(len)) sp.shading_normal = n / len;
-      }
-      if (object.material == kMeshMaterials) sp.material = mesh.triangle_material[hit.primitive];
-      return sp;
-    }
-    case ShapeType::cylinder:
-    case ShapeType::cone:
-      cone_geometry(scene.cones[object.shape], hit.face, object_point(scene, object, ray, hit.t), xf_of(scene, object),
-                    sp);
-      break;
-    case ShapeType::disk: {
-      const Disk& d = scene.disks[object.shape];
-      Vec3 p_obj = object_point(scene, object, ray, hit.t);
-      p_obj -= dot(p_obj - d.center, d.normal) * d.normal;  // onto the disk's plane exactly
-      to_world(xf_of(scene, object), p_obj, d.normal, sp);
-      break;
-    }
-    case ShapeType::polygon: {
-      polygon_geometry(scene.polygons[object.shape], hit, xf_of(scene, object), sp);
-      return sp;
-    }
-    case ShapeType::plane: {
-      const Plane& pl = scene.planes[object.shape];
-      sp.p = ray.at(hit.t);
-      sp.p -= dot(sp.p - pl.point, pl.normal) * pl.normal;  // onto the plane exactly
-      sp.geometric_normal = pl.normal;
-      break;
-    }
-  }
-  sp.shading_normal = sp.geometric_normal;
-  return sp;
-}
-
-}  // namespace
-
-SurfacePoint evaluate_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
-  SurfacePoint sp = evaluate_geometry(scene, ray, hit);
-  const Material& m = scene.materials[sp.material];
-  sp.reflectance = {m.ambient, m.diffuse, m.specular};
-  if (m.textured()) {  // plain colors never get here: no uv, no lookups
-    sp.textured = true;
-    sp.uv = surface_uv(scene, hit, sp.p);
-    if (m.ambient_texture != kNoTexture)
-      sp.reflectance.ambient = evaluate_texture(scene, scene.textures[m.ambient_texture], sp.uv);
-    if (m.diffuse_texture != kNoTexture)
-      sp.reflectance.diffuse = evaluate_texture(scene, scene.textures[m.diffuse_texture], sp.uv);
-    if (m.specular_texture != kNoTexture)
-      sp.reflectance.specular = evaluate_texture(scene, scene.textures[m.specular_texture], sp.uv);
-  }
-  return sp;
-}
 
 // The point being shaded: the hit, evaluated, with the directions and
 // offset origins every light sample and secondary ray uses.
@@ -234,12 +49,15 @@ struct NoRecorder {
   NoRecorder reflection(const Color&) { return {}; }
   NoRecorder refraction(const Color&) { return {}; }
   void ray(const Ray&, int, const std::optional<Hit>&, const Color&) {}
+  void fog(double) {}
+  void environment(const UV&) {}
   // Per light sample:
   void spot_factor(double) {}
   void attenuation_denominator(double) {}
   static bool blocked(const Accelerator& accel, const Ray& shadow, uint32_t* cache) {
     return cache ? accel.occluded_cached(shadow, *cache) : accel.occluded(shadow);
   }
+  void visibility(double) {}
   void lit(double) {}
   void done(const Light&, const ShadingPoint&, const ShadeTerms&) {}
 };
@@ -248,6 +66,7 @@ struct NoRecorder {
 // query is the same any-hit query, asked for the blocker's name.
 struct LightTraceRecorder {
   LightTrace* t;
+  void visibility(double v) { t->visibility = v; }
   void spot_factor(double f) { t->spot_factor = f; }
   void attenuation_denominator(double d) { t->attenuation = 1.0 / d; }
   bool blocked(const Accelerator& accel, const Ray& shadow, uint32_t*) {
@@ -307,6 +126,8 @@ struct TraceRecorder {
     t->hit = hit;
     t->color = color;
   }
+  void fog(double f) { t->fog = f; }
+  void environment(const UV& uv) { t->environment_uv = uv; }
 };
 
 // Schlick's approximation of the Fresnel reflectance, per color channel.
@@ -365,8 +186,29 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel)
     // (and from one stream, not each pixel's): those scenes shade one by one.
     const bool single_sample = light.type == LightType::ambient || light.type == LightType::point ||
                                light.type == LightType::spot || light.type == LightType::directional;
-    if (!single_sample) shades_packets_ = false;
+    // Occlusion rays draw random numbers too.
+    if (!single_sample || light.occlusion_samples > 0) shades_packets_ = false;
   }
+}
+
+Color Integrator::miss_color(const Ray& ray) const {
+  if (!scene_.render.environment) return scene_.render.background;
+  return sample_environment(scene_, *scene_.render.environment, ray.direction).color;
+}
+
+double Integrator::fog_factor(const Ray& ray, double t) const {
+  if (!scene_.render.fog) return 1.0;
+  const Fog& fog = *scene_.render.fog;
+  const double distance = t * length(ray.direction);  // world units along the ray
+  switch (fog.type) {
+    case FogType::linear: return std::clamp((fog.end - distance) / (fog.end - fog.start), 0.0, 1.0);
+    case FogType::exp: return std::exp(-fog.density * distance);
+    case FogType::exp2: {
+      const double x = fog.density * distance;
+      return std::exp(-(x * x));
+    }
+  }
+  return 1.0;
 }
 
 template <class Recorder>
@@ -413,11 +255,21 @@ CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::opt
   if (!hit) {
     // The background is the whole of a missed pixel; it goes to `ambient` so
     // the five color passes still sum to the image.
-    out.terms.ambient = scene_.render.background;
+    out.color = out.terms.ambient = miss_color(ray);
     return out;
   }
   ctx.stats.camera_hits++;
   out.terms = shade_surface(ray, *hit, 1, ctx);
+  out.color = out.terms.sum();
+  if (scene_.render.fog) {
+    const double f = fog_factor(ray, hit->t);
+    const Color haze = (1.0 - f) * scene_.render.fog->color;
+    out.color = f * out.color + haze;
+    for (Color* term : {&out.terms.ambient, &out.terms.diffuse, &out.terms.specular, &out.terms.reflection,
+                        &out.terms.transmission})
+      *term = f * *term;
+    out.terms.ambient += haze;
+  }
   // Evaluated again (cheap, no random numbers) rather than widening
   // shade_surface's interface for the camera ray alone.
   const SurfacePoint sp = evaluate_hit(scene_, ray, *hit);
@@ -485,7 +337,21 @@ void Integrator::cast_batch(const Ray* rays, const std::optional<Hit>* hits, int
   PacketSlots<ShadeTerms, MaxN> terms;  // set for the rays that hit
   if (n > 0) shade_batch<MaxN>(rays, hits, points, n, depth, ctx, recs, terms.data());
   for (int i = 0; i < count; ++i) {
-    colors[i] = hits[i] ? terms[i].sum() : scene_.render.background;
+    if (!hits[i]) {
+      colors[i] = scene_.render.background;
+      if (scene_.render.environment) {
+        const EnvironmentLookup e = sample_environment(scene_, *scene_.render.environment, rays[i].direction);
+        colors[i] = e.color;
+        recs[i].environment(UV{e.u, e.v});
+      }
+    } else {
+      colors[i] = terms[i].sum();
+      if (scene_.render.fog) {  // f C + (1 - f) c, for every ray that hits
+        const double f = fog_factor(rays[i], hits[i]->t);
+        colors[i] = f * colors[i] + (1.0 - f) * scene_.render.fog->color;
+        recs[i].fog(f);
+      }
+    }
     recs[i].ray(rays[i], depth, hits[i], colors[i]);
   }
 }
@@ -526,6 +392,11 @@ template <int MaxN, class Recorder>
     light_recs[i] = recs[i].light(li);
     new (&terms[i]) ShadeTerms;
     terms[i].ambient = at[i].sp.reflectance.ambient * light.ambient;
+    if (light.occlusion_samples > 0) {
+      const double visible = ambient_visibility(at[i], light, ctx);
+      light_recs[i].visibility(visible);
+      terms[i].ambient = visible * terms[i].ambient;
+    }
   }
   switch (light.type) {
     case LightType::ambient: break;
@@ -734,6 +605,27 @@ void Integrator::add_area_light(const ShadingPoint& at, uint32_t li, ShadeTerms&
       add_light_sample(at, LightSample{li, to_light, 1.0, length(to_light), weight}, out, ctx, rec);
     }
   }
+}
+
+double Integrator::ambient_visibility(const ShadingPoint& at, const Light& light, TraceContext& ctx) const {
+  // Stratified points of the unit square, mapped onto the disk (concentric)
+  // and lifted onto the hemisphere about n: cosine-weighted directions.
+  Vec3 e_u, e_v;
+  plane_frame(at.n, e_u, e_v);
+  const auto [nu, nv] = stratified_grid(light.occlusion_samples);
+  int open = 0;
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      const double su = (i + ctx.rng.next_double()) / nu;
+      const double sv = (j + ctx.rng.next_double()) / nv;
+      const LensPoint d = concentric_disk(su, sv);
+      const double z = std::sqrt(std::max(0.0, 1.0 - d.x * d.x - d.y * d.y));
+      const Ray ray{at.above, d.x * e_u + d.y * e_v + z * at.n, 0.0, light.occlusion_distance};
+      ctx.stats.shadow++;
+      if (!accel_.occluded(ray)) ++open;
+    }
+  }
+  return static_cast<double>(open) / light.occlusion_samples;
 }
 
 SecondaryRays Integrator::secondary_rays(const ShadingPoint& at, int depth) const {

@@ -55,9 +55,11 @@ struct ShadeTerms {
 };
 
 // A camera ray's color by its parts, with the facts of its first hit: what
-// the passes (AOVs) store. terms.sum() is bit for bit cast_ray's color.
+// the passes (AOVs) store; without fog terms.sum() is `color`.
 struct CameraSample {
-  ShadeTerms terms;  // a miss puts the background in `ambient`
+  Color color;       // cast_ray's color, bit for bit
+  ShadeTerms terms;  // a miss puts the background in `ambient`; fog scales
+                     // each term by f and adds (1 - f) fog color to `ambient`
   Vec3 normal;       // shading normal as used (turned toward the ray); 0 on a miss
   double depth = 0;  // distance along the ray to the first hit; 0 on a miss
   Color albedo;      // R_d at the first hit; 0 on a miss
@@ -89,6 +91,7 @@ struct LightTrace {
   std::optional<double> specular_cos;  // r.v (phong) or n.h (blinn-phong), when lit
   double spot_factor = 1, attenuation = 1;
   int samples = 1, lit_samples = 0;  // area lights: shadow samples and unblocked ones
+  std::optional<double> visibility;  // ambient occlusion: the fraction of open directions
   ShadeTerms terms;                  // this light's ambient, diffuse, specular
 };
 
@@ -102,6 +105,8 @@ struct RayTrace {
   std::vector<LightTrace> lights;
   Color reflection_weight, refraction_weight;
   std::unique_ptr<RayTrace> reflection, refraction;  // null when not cast
+  std::optional<double> fog;           // f: color = f (shaded sum) + (1 - f) fog color
+  std::optional<UV> environment_uv;    // a miss that saw the environment: where
   Color color;
 };
 
@@ -142,6 +147,11 @@ class Integrator {
                           Color* colors) const;
 
   double epsilon() const { return epsilon_; }
+  // What a ray that hits nothing returns: the background, or the environment
+  // in its direction.
+  Color miss_color(const Ray& ray) const;
+  // Fog's f for a hit at distance t along `ray` (1: no fog).
+  double fog_factor(const Ray& ray, double t) const;
 
  private:
   // The formula's control flow, written once (integrator.cpp), for a batch
@@ -191,6 +201,9 @@ class Integrator {
   template <class LightRecorder>
   void add_lit_sample(const ShadingPoint& at, const LightSample& sample, const PreparedSample& prepared,
                       ShadeTerms& out, LightRecorder& rec) const;
+  // Ambient occlusion: the fraction of the light's cosine-weighted rays
+  // from the point that hit nothing within its distance.
+  double ambient_visibility(const ShadingPoint& at, const Light& light, TraceContext& ctx) const;
   // Which rays a point at `depth` casts on, their weights and rays.
   SecondaryRays secondary_rays(const ShadingPoint& at, int depth) const;
 

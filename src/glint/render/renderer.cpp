@@ -10,6 +10,8 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "glint/accel/packet_slots.h"
 #include "glint/render/camera.h"
@@ -38,7 +40,7 @@ struct PixelSums {
 };
 
 // Adds one camera sample of weight `w` to `sums`. The pass path's color is
-// CameraSample::terms.sum(), bit for bit cast_ray's.
+// CameraSample::color, bit for bit cast_ray's.
 // `known_hit`, when given, is the ray's first hit, already found.
 template <bool kWithPasses>
 void add_camera_sample(const Integrator& integrator, const Ray& ray, double w, TraceContext& ctx, PixelSums& sums,
@@ -50,7 +52,7 @@ void add_camera_sample(const Integrator& integrator, const Ray& ray, double w, T
   } else {
     const CameraSample s =
         known_hit ? integrator.cast_camera_ray_with_hit(ray, *known_hit, ctx) : integrator.cast_camera_ray(ray, ctx);
-    sums.color += w * s.terms.sum();
+    sums.color += w * s.color;
     auto add = [&](Pass p, const Color& c) { sums.passes[static_cast<size_t>(p)] += w * c; };
     add(Pass::ambient, s.terms.ambient);
     add(Pass::diffuse, s.terms.diffuse);
@@ -75,6 +77,23 @@ Ray center_ray(const PixelContext& pc, int x, int y) {
   return generate_camera_ray(pc.frame, (x + 0.5) / pc.scene.render.width, (y + 0.5) / pc.scene.render.height);
 }
 
+// A pixel's lens points (empty for a pinhole): one jittered point per cell of
+// a stratified grid over the disk's square (concentric map), handed to the
+// pixel's samples in an order shuffled per pixel, so that where a sample
+// crosses the lens is independent of where it crosses the pixel. Drawn from
+// the pixel's own random numbers: the same for any thread count.
+const std::vector<LensPoint>& lens_points(const CameraFrame& frame, int spp, Rng& rng) {
+  thread_local std::vector<LensPoint> points;
+  points.clear();
+  if (!(frame.aperture > 0.0)) return points;
+  const auto [nx, ny] = stratified_grid(spp);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      points.push_back(concentric_disk((i + rng.next_double()) / nx, (j + rng.next_double()) / ny));
+  for (size_t k = points.size(); k > 1; --k) std::swap(points[k - 1], points[rng.next_u32() % k]);
+  return points;
+}
+
 // The pixel's `spp` samples, summed into `sums`; returns the divisor that
 // turns the sums into the pixel's values.
 template <bool kWithPasses>
@@ -89,12 +108,15 @@ double sum_pixel_samples(const PixelContext& pc, int x, int y, int spp, TraceCon
   // Sample positions inside a pixel: spp 1 is the exact center (above);
   // N > 1 is one jittered point per cell of the stratified grid.
   const auto [nx, ny] = stratified_grid(spp);
+  const std::vector<LensPoint>& lens = lens_points(pc.frame, spp, ctx.rng);
+  const auto lens_point = [&](int k) { return lens.empty() ? LensPoint{} : lens[static_cast<size_t>(k)]; };
   if (!pc.filter) {
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
         const double u = (x + (i + ctx.rng.next_double()) / nx) / w;
         const double v = (y + (j + ctx.rng.next_double()) / ny) / h;
-        add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, u, v), 1.0, ctx, sums);
+        add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, u, v, lens_point(j * nx + i)),
+                                       1.0, ctx, sums);
       }
     }
     return spp;
@@ -107,7 +129,8 @@ double sum_pixel_samples(const PixelContext& pc, int x, int y, int spp, TraceCon
       const double sv = (j + ctx.rng.next_double()) / ny;
       const FilterSample fs = pc.filter->sample(su, sv);
       const double u = (x + 0.5 + fs.dx) / w, v = (y + 0.5 + fs.dy) / h;
-      add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, u, v), fs.weight, ctx, sums);
+      add_camera_sample<kWithPasses>(pc.integrator, generate_camera_ray(pc.frame, u, v, lens_point(j * nx + i)),
+                                     fs.weight, ctx, sums);
       weight_sum += fs.weight;
     }
   }

@@ -69,6 +69,32 @@ Color evaluate_texture(const Scene& scene, const Texture& texture, UV uv) {
   return sample_image(scene.texture_images[texture.image], u, v, texture.wrap);
 }
 
+EnvironmentLookup sample_environment(const Scene& scene, const Environment& environment, const Vec3& direction) {
+  EnvironmentLookup out;
+  const TextureImage& image = scene.texture_images[environment.image];
+  const double len = length(direction);
+  const Vec3 d = len > 0.0 ? direction / len : Vec3(0, 0, -1);
+  double u = 0.5 + std::atan2(d.x, -d.z) / (2.0 * std::numbers::pi) + environment.rotate / 360.0;
+  u -= std::floor(u);
+  if (!(u >= 0.0 && u < 1.0)) u = 0.0;  // NaN, or a u just below 1 that rounded up
+  out.u = u;
+  out.v = std::acos(std::clamp(d.y, -1.0, 1.0)) / std::numbers::pi;
+  if (image.width <= 0 || image.height <= 0) return out;
+  // Texel centers at whole numbers; u wraps around the sphere, v stops at the poles.
+  const double x = out.u * image.width - 0.5, y = out.v * image.height - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y);
+  const double fx = x - x0, fy = y - y0;
+  const auto ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
+  const int xa = wrap_texel(ix, image.width, TextureWrap::repeat);
+  const int xb = wrap_texel(ix + 1, image.width, TextureWrap::repeat);
+  const int ya = wrap_texel(iy, image.height, TextureWrap::clamp);
+  const int yb = wrap_texel(iy + 1, image.height, TextureWrap::clamp);
+  const Color top = (1.0 - fx) * texel(image, xa, ya) + fx * texel(image, xb, ya);
+  const Color bottom = (1.0 - fx) * texel(image, xa, yb) + fx * texel(image, xb, yb);
+  out.color = environment.scale * ((1.0 - fy) * top + fy * bottom);
+  return out;
+}
+
 void plane_frame(const Vec3& n, Vec3& e_u, Vec3& e_v) {
   const bool y_largest = std::abs(n.y) >= std::abs(n.x) && std::abs(n.y) >= std::abs(n.z);
   const Vec3 r = y_largest ? Vec3(0, 0, 1) : Vec3(0, -1, 0);

@@ -28,6 +28,15 @@ void plane_frame(const Vec3& n, Vec3& e_u, Vec3& e_v);
 // toward +x), v = 1 - theta / pi with theta the angle from +y (v = 1 at the top).
 UV sphere_uv(const Vec3& d);
 
+// The environment seen along a direction (render.environment): u, v of the
+// latitude-longitude map (u from atan2(d.x, -d.z), v = 0 straight up; row 0
+// at the top), bilinear, u wrapping and v clamped, times the scale.
+struct EnvironmentLookup {
+  double u = 0, v = 0;
+  Color color;
+};
+EnvironmentLookup sample_environment(const Scene& scene, const Environment& environment, const Vec3& direction);
+
 // (u, v) of the hit at world point p (the point evaluate_hit gives).
 UV surface_uv(const Scene& scene, const Hit& hit, const Vec3& p);
 

@@ -40,6 +40,23 @@ struct AdaptiveSampling {
   double threshold = 0.05;
 };
 
+// Fog (render.fog): a ray that hits at distance t returns f*C + (1 - f)*color.
+enum class FogType : uint8_t { linear, exp, exp2 };
+struct Fog {
+  Color color{0.5};
+  FogType type = FogType::linear;
+  double start = 0, end = 1;  // linear: f = clamp((end - t) / (end - start), 0, 1)
+  double density = 1;         // exp: f = exp(-density t); exp2: f = exp(-(density t)^2)
+};
+
+// The environment (render.environment): an image around the scene that rays
+// which hit nothing see instead of the background (latitude-longitude map).
+struct Environment {
+  uint32_t image = 0;   // into Scene::texture_images
+  double rotate = 0;    // degrees, added to the longitude
+  Color scale{1.0};
+};
+
 struct RenderSettings {
   int width = 640;
   int height = 480;
@@ -50,9 +67,12 @@ struct RenderSettings {
   std::optional<double> epsilon;  // nullopt: scale-aware automatic value
   PixelFilter pixel_filter;
   std::optional<AdaptiveSampling> adaptive;  // nullopt: every pixel gets samples_per_pixel
+  std::optional<Fog> fog;
+  std::optional<Environment> environment;  // replaces background for rays that miss
 };
 
-enum class CameraType { perspective, orthographic };
+// New types go at the end (tools name them by these values).
+enum class CameraType { perspective, orthographic, fisheye, equirectangular };
 
 struct Camera {
   CameraType type = CameraType::perspective;
@@ -61,6 +81,14 @@ struct Camera {
   Vec3 up{0, 1, 0};
   double fov_y = 45.0;       // degrees, perspective
   double view_height = 2.0;  // world units, orthographic
+  double fisheye_fov = 180;  // degrees across the image height, fisheye
+  // Thin lens (perspective): the lens radius (0: a pinhole) and the distance
+  // along the view direction to the plane in focus (nullopt: to look_at).
+  double aperture = 0;
+  std::optional<double> focus_distance;
+  // Parallel stereo: a left and a right image side by side, each half of
+  // render.width (the loader doubles the file's width), eyes this far apart.
+  std::optional<double> eye_separation;
   // Degrees between the centers of the first and last pixel rows (an NFF
   // view's `angle`). When set, the perspective fov_y is derived from it for
   // the height actually rendered (camera_fov_y below), so a
@@ -68,6 +96,10 @@ struct Camera {
   // the file's own resolution. Not a JSON key: only NFF scenes set it.
   std::optional<double> row_center_angle;
 };
+
+// The image's width for a render.width (or --width) of `width`: each eye's
+// width, doubled, for a stereo pair.
+inline int image_width(const Camera& camera, int width) { return camera.eye_separation ? 2 * width : width; }
 
 // The vertical field of view, degrees, of an image `height` rows high:
 // camera.fov_y, or for a camera with a row_center_angle a (the NFF view) the
@@ -141,6 +173,11 @@ struct Light {
   Vec3 attenuation{1, 0, 0};    // 1 / (c + l d + q d^2)
   Vec3 corner, edge_u, edge_v;  // area: the parallelogram corner + s edge_u + t edge_v
   int samples = 16;             // area: shadow samples per shading point
+  // Ambient occlusion (ambient lights): R_a L_a is scaled by the fraction of
+  // occlusion_samples cosine-weighted rays that hit nothing within
+  // occlusion_distance; 0 samples: never occluded (the contract's default).
+  int occlusion_samples = 0;
+  double occlusion_distance = kInfinity;
   std::string name;
 };
 

@@ -24,7 +24,7 @@ void SceneReader::read_light(const Value& v, const Path& path) {
 
   Keys allowed = {"type", "name", "ambient", "color"};
   switch (light.type) {
-    case LightType::ambient: break;
+    case LightType::ambient: allowed.push_back("occlusion"); break;
     case LightType::point: allowed.insert(allowed.end(), {"diffuse", "specular", "position", "attenuation"}); break;
     case LightType::directional: allowed.insert(allowed.end(), {"diffuse", "specular", "direction"}); break;
     case LightType::spot:
@@ -38,8 +38,8 @@ void SceneReader::read_light(const Value& v, const Path& path) {
   // Keys that belong to other light types get a precise message.
   for (size_t k = 0; k < v.size(); ++k) {
     const std::string_view key = v.key(k);
-    static const Keys any_light = {"diffuse",     "specular", "position", "direction", "cutoff", "falloff",
-                                   "attenuation", "corner",   "edge_u",   "edge_v",    "samples"};
+    static const Keys any_light = {"diffuse", "specular", "position", "direction", "cutoff",   "falloff",
+                                   "attenuation", "corner", "edge_u", "edge_v", "samples", "occlusion"};
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end() &&
         std::find(any_light.begin(), any_light.end(), key) != any_light.end())
       throw Error(v.key_location(k), join(path, key).str(),
@@ -83,6 +83,13 @@ void SceneReader::read_light(const Value& v, const Path& path) {
     if (!(length(cross(light.edge_u, light.edge_v)) > 0))
       fail(eu, join(path, "edge_u"), "edge_u and edge_v must span a parallelogram of non-zero area");
     if (auto x = v.find("samples")) light.samples = integer(*x, join(path, "samples"), 1, kMaxAreaLightSamples);
+  }
+  if (auto x = v.find("occlusion")) {  // {"samples": N, "distance": D}
+    const Path p = join(path, "occlusion");
+    expect_object(*x, p);
+    check_keys(*x, p, {"samples", "distance"});
+    light.occlusion_samples = integer(require(*x, p, "samples"), join(p, "samples"), 1, kMaxAreaLightSamples);
+    if (auto d = x->find("distance")) light.occlusion_distance = positive(*d, join(p, "distance"));
   }
   if (auto x = v.find("attenuation")) {
     const Path p = join(path, "attenuation");

@@ -203,6 +203,8 @@ class SceneReader {
   PixelFilter pixel_filter(const Value& v) const;
   double unit_interval(const Value& v, const Path& path) const;
   AdaptiveSampling adaptive(const Value& v, int samples_per_pixel) const;
+  Fog fog(const Value& v, const Color& background) const;
+  Environment environment(const Value& v);
   void read_camera(const Value& c);
 
   // --- materials and textures (materials.cpp) ----------------------------
