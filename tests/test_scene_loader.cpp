@@ -605,8 +605,8 @@ TEST(SceneLoaderErrors, UnknownKeysGetAHint) {
 TEST(SceneLoaderErrors, UnknownNamesAndEnumValuesGetAHint) {
   expect_object_error(R"({"type": @"sphre", "center": [0, 0, 0], "radius": 1})",
                       "objects[0].type: unknown object type \"sphre\" (did you mean \"sphere\"?)");
-  expect_object_error(R"({"type": @"torus"})",
-                      "objects[0].type: unknown object type \"torus\" (expected one of \"sphere\"");
+  expect_object_error(R"({"type": @"teapot"})",
+                      "objects[0].type: unknown object type \"teapot\" (expected one of \"sphere\"");
   expect_light_error(R"({"type": @"spott", "position": [0, 0, 0]})",
                      "lights[0].type: unknown light type \"spott\" (did you mean \"spot\"?)");
   expect_error(R"({"camera": {"type": @"orthografic", "position": [0, 0, 1], "look_at": [0, 0, 0]}, "objects": []})",

@@ -27,7 +27,7 @@ const char* kBrokenEverywhere = R"({"camera": {"position": [0,0,5], "look_at": [
  "lights": [{"type": "point"}, {"type": "spot", "position": [0,0,0], "direction": [0,0,0], "cutoff": 10}],
  "objects": [{"type": "sphere", "center": [0,0,0], "radius": 0, "material": "a"},
              {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "zz"},
-             {"type": "torus"}]})";
+             {"type": "teapot"}]})";
 
 TEST(Validate, ListsEveryErrorInFileOrder) {
   const auto errors = validate_scene(write_temp("broken.json", kBrokenEverywhere));
@@ -39,7 +39,7 @@ TEST(Validate, ListsEveryErrorInFileOrder) {
                             "lights[1].direction: must be a non-zero",
                             "objects[0].radius: must be > 0",
                             "objects[1].material: unknown material \"zz\"",
-                            "objects[2].type: unknown object type \"torus\""};
+                            "objects[2].type: unknown object type \"teapot\""};
   int last_line = 0;
   for (size_t i = 0; i < errors.size(); ++i) {
     EXPECT_NE(errors[i].message().find(expected[i]), std::string::npos) << errors[i].what();

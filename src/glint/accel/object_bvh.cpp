@@ -17,7 +17,9 @@
 #include "glint/accel/ray_packets.h"
 #include "glint/accel/triangle_leaf.h"
 #include "glint/accel/wide_bvh.h"
+#include "glint/geometry/csg.h"
 #include "glint/geometry/shapes.h"
+#include "glint/geometry/torus.h"
 #include "glint/geometry/triangle_shear.h"
 
 namespace glint {
@@ -150,6 +152,18 @@ inline bool intersect_shape(const Scene& scene, const Object& object, uint32_t i
     case ShapeType::polygon:
       if (auto h = intersect_polygon(scene.polygons[object.shape], ray)) {
         hit = Hit{h->t, index, h->b1, h->b2, 0, h->triangle, {}};
+        return true;
+      }
+      return false;
+    case ShapeType::torus:
+      if (auto t = intersect_torus(scene.tori[object.shape], ray)) {
+        hit = Hit{*t, index, 0, 0, 0, 0, {}};
+        return true;
+      }
+      return false;
+    case ShapeType::csg:  // face: the leaf's part, doubled, plus 1 where its normal turns; primitive: the leaf
+      if (auto h = intersect_csg(scene.csgs[object.shape], ray)) {
+        hit = Hit{h->t, index, 0, 0, 2 * h->part + (h->flip ? 1 : 0), h->leaf, {}};
         return true;
       }
       return false;

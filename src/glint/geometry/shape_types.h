@@ -7,9 +7,12 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "glint/math/bounds.h"
+#include "glint/math/transform.h"
 #include "glint/math/vec3.h"
 
 namespace glint {
@@ -52,6 +55,46 @@ struct Disk {
   Vec3 center;
   Vec3 normal{0, 1, 0};
   double radius = 1, inner_radius = 0;
+};
+
+// A torus in object space: the circle of radius major_radius about `center`
+// in the plane whose unit normal is `axis`, swept by a disk of minor_radius
+// (0 < minor_radius < major_radius).
+struct Torus {
+  Vec3 center;
+  Vec3 axis{0, 1, 0};
+  double major_radius = 1, minor_radius = 0.25;
+};
+
+// Constructive solid geometry: a tree whose leaves are closed solids
+// (sphere, box, closed cylinder or cone, torus) and whose inner nodes
+// combine their children's insides (geometry/csg.h). Leaves carry their own
+// material and their transform into the CSG object's space (every level of
+// nested transforms composed).
+enum class CsgOp : uint8_t { union_of, intersection, difference };  // difference: the first child minus the rest
+enum class CsgLeafType : uint8_t { sphere, box, cone, torus };
+struct CsgLeaf {
+  CsgLeafType type = CsgLeafType::sphere;
+  uint32_t material = 0;
+  bool cylinder = false;           // a cone leaf that the file called a cylinder
+  std::optional<Transform> transform;  // leaf space -> the CSG object's space; nullopt: the identity
+  Sphere sphere;
+  Box box;
+  Cone cone;
+  Torus torus;
+  std::string name;  // the file's, or empty
+};
+struct CsgNode {
+  bool leaf = false;
+  CsgOp op = CsgOp::union_of;
+  uint32_t index = 0;              // a leaf: into Csg::leaves
+  uint32_t first = 0, count = 0;   // an operation: its children are child_nodes[first, first + count)
+};
+struct Csg {
+  std::vector<CsgNode> nodes;  // nodes[0]: the root operation
+  std::vector<uint32_t> child_nodes;
+  std::vector<CsgLeaf> leaves;
+  Bounds3 bounds;  // in the CSG object's space
 };
 
 // A simple planar polygon in object space, triangulated once (a fan when

@@ -86,6 +86,12 @@ Json node_json(const Scene& scene, const RayTrace& t) {
     hit["point"] = vec(t.surface.p);
     hit["normal"] = vec(t.normal);
     hit["material"] = scene.materials[t.surface.material].name;
+    if (scene.objects[t.hit->object].type == ShapeType::csg) {  // which solid of the tree made this surface
+      const CsgLeaf& leaf = scene.csgs[scene.objects[t.hit->object].shape].leaves[t.hit->primitive];
+      hit["csg"] = {{"child", t.hit->primitive},
+                    {"name", leaf.name.empty() ? Json(nullptr) : Json(leaf.name)},
+                    {"flipped", (t.hit->face & 1) != 0}};
+    }
     if (t.surface.textured) {
       hit["uv"] = Json::array({t.surface.uv.u, t.surface.uv.v});
       Json textures = Json::array();
@@ -165,6 +171,12 @@ void node_text(const Scene& scene, const RayTrace& t, const std::string& indent,
   const Material& m = scene.materials[t.surface.material];
   out += indent + "  hits " + object_label(scene, t.hit->object) + " at t = " + fmt(t.hit->t) + ", point " +
          fmt(t.surface.p) + ", normal " + fmt(t.normal) + ", material \"" + m.name + "\"\n";
+  if (scene.objects[t.hit->object].type == ShapeType::csg) {
+    const CsgLeaf& leaf = scene.csgs[scene.objects[t.hit->object].shape].leaves[t.hit->primitive];
+    out += indent + "  csg solid " + std::to_string(t.hit->primitive) +
+           (leaf.name.empty() ? std::string() : " \"" + leaf.name + "\"") +
+           ((t.hit->face & 1) ? " (subtracted: its normal turned)" : "") + "\n";
+  }
   for (const TextureLookup& l : texture_lookups(scene, t.surface))
     out += indent + "  texture " + l.slot + " at uv (" + fmt(t.surface.uv.u) + ", " + fmt(t.surface.uv.v) +
            "): " + fmt(l.value) + " from " + texture_source(scene, l.texture) + "\n";

@@ -5,7 +5,9 @@
 #include <array>
 #include <cmath>
 
+#include "glint/geometry/csg.h"
 #include "glint/geometry/shapes.h"
+#include "glint/geometry/torus.h"
 #include "glint/render/integrator.h"
 #include "glint/render/texture.h"
 
@@ -166,6 +168,24 @@ SurfacePoint evaluate_geometry(const Scene& scene, const Ray& ray, const Hit& hi
     case ShapeType::polygon: {
       polygon_geometry(scene.polygons[object.shape], hit, xf_of(scene, object), sp);
       return sp;
+    }
+    case ShapeType::torus: {
+      const Vec3 p_obj = object_point(scene, object, ray, hit.t);
+      to_world(xf_of(scene, object), p_obj, torus_normal(scene.tori[object.shape], p_obj), sp);
+      break;
+    }
+    case ShapeType::csg: {
+      // The leaf's surface, its normal turned out of the result where the
+      // leaf was subtracted, and the leaf's material.
+      const CsgLeaf& leaf = scene.csgs[object.shape].leaves[hit.primitive];
+      const Vec3 p_obj = object_point(scene, object, ray, hit.t);
+      const Vec3 p_leaf = leaf.transform ? leaf.transform->inverse_point(p_obj) : p_obj;
+      Vec3 n = csg_leaf_normal(leaf, hit.face / 2, p_leaf);
+      if (leaf.transform) n = normalize(leaf.transform->normal(n));
+      if (hit.face & 1) n = -n;
+      to_world(xf_of(scene, object), p_obj, n, sp);
+      sp.material = leaf.material;
+      break;
     }
     case ShapeType::plane: {
       const Plane& pl = scene.planes[object.shape];

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "glint/geometry/csg.h"
 #include "glint/geometry/shapes.h"
+#include "glint/geometry/torus.h"
 
 namespace glint {
 
@@ -129,6 +131,52 @@ UV disk_uv(const Vec3& q, const Vec3& n, double r) {
   return {0.5 + dot(q, e_u) / (2.0 * r), 0.5 + dot(q, e_v) / (2.0 * r)};
 }
 
+// Each face shows the unit square once, oriented by the plane frame of its
+// outward normal (whose axes are box axes, up to sign). q in the box's space.
+UV box_uv(const Box& b, int face, const Vec3& q) {
+  Vec3 e_u, e_v;
+  plane_frame(box_face_normal(face), e_u, e_v);
+  UV uv;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (e_u[axis] != 0) uv.u = along(q[axis], b.lo[axis], b.hi[axis], e_u[axis]);
+    if (e_v[axis] != 0) uv.v = along(q[axis], b.lo[axis], b.hi[axis], e_v[axis]);
+  }
+  return uv;
+}
+
+UV cone_uv(const Cone& c, int part, const Vec3& q) {
+  const Vec3 rel = q - c.base;
+  const double h = dot(rel, c.axis);
+  const Vec3 radial = rel - h * c.axis;
+  if (part == kConeSide) {
+    // Angle about the axis by the right-hand rule from ref_u, and height.
+    const double angle = std::atan2(dot(radial, cross(c.axis, c.ref_u)), dot(radial, c.ref_u));
+    double u = angle / (2.0 * std::numbers::pi);
+    if (u < 0) u += 1.0;
+    return {u, h / c.length};
+  }
+  // A cap: its square of side 2r, as a disk with the cap's outward normal.
+  const bool apex = part == kConeApexCap;
+  return disk_uv(radial, apex ? c.axis : -c.axis, apex ? c.apex_radius : c.base_radius);
+}
+
+// u: the angle about the axis from the plane frame's e_u (right-hand rule);
+// v: the angle about the tube, 0 at the outer equator, growing toward +axis.
+UV torus_uv(const Torus& t, const Vec3& q) {
+  Vec3 e_u, e_v;
+  plane_frame(t.axis, e_u, e_v);
+  const Vec3 rel = q - t.center;
+  const double h = dot(rel, t.axis);
+  const Vec3 radial = rel - h * t.axis;
+  const double rl = length(radial);
+  const double two_pi = 2.0 * std::numbers::pi;
+  double u = std::atan2(dot(radial, cross(t.axis, e_u)), dot(radial, e_u)) / two_pi;
+  double v = std::atan2(h, rl - t.major_radius) / two_pi;
+  if (u < 0) u += 1.0;
+  if (v < 0) v += 1.0;
+  return {u, v};
+}
+
 }  // namespace
 
 UV surface_uv(const Scene& scene, const Hit& hit, const Vec3& p) {
@@ -147,20 +195,7 @@ UV surface_uv(const Scene& scene, const Hit& hit, const Vec3& p) {
       plane_frame(pl.normal, e_u, e_v);
       return {dot(p - pl.point, e_u), dot(p - pl.point, e_v)};
     }
-    case ShapeType::box: {
-      // Each face shows the unit square once, oriented by the plane frame of
-      // its outward normal (whose axes are box axes, up to sign).
-      const Box& b = scene.boxes[object.shape];
-      const Vec3 q = to_object(p);
-      Vec3 e_u, e_v;
-      plane_frame(box_face_normal(hit.face), e_u, e_v);
-      UV uv;
-      for (int axis = 0; axis < 3; ++axis) {
-        if (e_u[axis] != 0) uv.u = along(q[axis], b.lo[axis], b.hi[axis], e_u[axis]);
-        if (e_v[axis] != 0) uv.v = along(q[axis], b.lo[axis], b.hi[axis], e_v[axis]);
-      }
-      return uv;
-    }
+    case ShapeType::box: return box_uv(scene.boxes[object.shape], hit.face, to_object(p));
     case ShapeType::triangle: {
       static constexpr std::array<UV, 3> kDefault{UV{0, 0}, UV{1, 0}, UV{0, 1}};
       const auto it = scene.triangle_uvs.find(object.shape);
@@ -168,21 +203,19 @@ UV surface_uv(const Scene& scene, const Hit& hit, const Vec3& p) {
       return barycentric_uv(c[0], c[1], c[2], hit.b1, hit.b2);
     }
     case ShapeType::cylinder:
-    case ShapeType::cone: {
-      const Cone& c = scene.cones[object.shape];
-      const Vec3 rel = to_object(p) - c.base;
-      const double h = dot(rel, c.axis);
-      const Vec3 radial = rel - h * c.axis;
-      if (hit.face == kConeSide) {
-        // Angle about the axis by the right-hand rule from ref_u, and height.
-        const double angle = std::atan2(dot(radial, cross(c.axis, c.ref_u)), dot(radial, c.ref_u));
-        double u = angle / (2.0 * std::numbers::pi);
-        if (u < 0) u += 1.0;
-        return {u, h / c.length};
+    case ShapeType::cone: return cone_uv(scene.cones[object.shape], hit.face, to_object(p));
+    case ShapeType::torus: return torus_uv(scene.tori[object.shape], to_object(p));
+    case ShapeType::csg: {
+      // The leaf's own (u, v), in its own space.
+      const CsgLeaf& leaf = scene.csgs[object.shape].leaves[hit.primitive];
+      const Vec3 q = leaf.transform ? leaf.transform->inverse_point(to_object(p)) : to_object(p);
+      switch (leaf.type) {
+        case CsgLeafType::sphere: return sphere_uv(normalize(q - leaf.sphere.center));
+        case CsgLeafType::box: return box_uv(leaf.box, hit.face / 2, q);
+        case CsgLeafType::cone: return cone_uv(leaf.cone, hit.face / 2, q);
+        case CsgLeafType::torus: return torus_uv(leaf.torus, q);
       }
-      // A cap: its square of side 2r, as a disk with the cap's outward normal.
-      const bool apex = hit.face == kConeApexCap;
-      return disk_uv(radial, apex ? c.axis : -c.axis, apex ? c.apex_radius : c.base_radius);
+      return {};
     }
     case ShapeType::disk: {
       const Disk& d = scene.disks[object.shape];

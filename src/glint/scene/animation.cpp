@@ -137,6 +137,8 @@ void move_object(Scene& scene, const ObjectTracks& tr, const std::optional<Trans
       break;
     case ShapeType::disk: add_disk(scene, Disk(scene.disks[old.shape]), old.material, xf); break;
     case ShapeType::polygon: add_polygon(scene, Polygon(scene.polygons[old.shape]), old.material, xf); break;
+    case ShapeType::torus: add_torus(scene, Torus(scene.tori[old.shape]), old.material, xf); break;
+    case ShapeType::csg: add_csg(scene, Csg(scene.csgs[old.shape]), old.material, xf); break;
     case ShapeType::plane: {
       const Plane p{tr.object_space[0], tr.object_space[1]};
       add_plane(scene, p, old.material, xf);

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "glint/geometry/csg.h"
+#include "glint/geometry/torus.h"
+
 namespace glint {
 
 Scene::Scene() {
@@ -99,6 +102,17 @@ uint32_t add_polygon(Scene& scene, Polygon polygon, uint32_t material, const std
   return add_object(scene, ShapeType::polygon, scene.polygons.size() - 1, material, add_transform(scene, transform));
 }
 
+uint32_t add_torus(Scene& scene, const Torus& torus, uint32_t material, const std::optional<Transform>& transform) {
+  scene.tori.push_back(torus);
+  return add_object(scene, ShapeType::torus, scene.tori.size() - 1, material, add_transform(scene, transform));
+}
+
+uint32_t add_csg(Scene& scene, Csg csg, uint32_t material, const std::optional<Transform>& transform) {
+  csg.bounds = csg_bounds(csg);
+  scene.csgs.push_back(std::move(csg));
+  return add_object(scene, ShapeType::csg, scene.csgs.size() - 1, material, add_transform(scene, transform));
+}
+
 uint32_t add_mesh(Scene& scene, Mesh mesh) {
   mesh.bounds = Bounds3{};
   for (const Vec3f& p : mesh.positions) mesh.bounds.extend(to_vec3(p));
@@ -162,6 +176,8 @@ Bounds3 object_bounds(const Scene& scene, uint32_t index) {
       break;
     }
     case ShapeType::polygon: b = scene.polygons[object.shape].bounds; break;
+    case ShapeType::torus: b = torus_bounds(scene.tori[object.shape]); break;
+    case ShapeType::csg: b = scene.csgs[object.shape].bounds; break;
     case ShapeType::plane: return b;
   }
   if (object.transform != kNoTransform) b = scene.transforms[object.transform].bounds(b);

@@ -182,12 +182,12 @@ struct Light {
 };
 
 // New types go at the end: tools count objects by these values.
-enum class ShapeType : uint8_t { sphere, plane, triangle, box, mesh, cylinder, cone, disk, polygon };
-inline constexpr int kShapeTypeCount = 9;
-// The scene file's name of each type ("sphere", ..., "polygon").
+enum class ShapeType : uint8_t { sphere, plane, triangle, box, mesh, cylinder, cone, disk, polygon, torus, csg };
+inline constexpr int kShapeTypeCount = 11;
+// The scene file's name of each type ("sphere", ..., "csg").
 inline const char* shape_type_name(ShapeType t) {
-  static constexpr const char* kNames[kShapeTypeCount] = {"sphere",   "plane", "triangle", "box",    "mesh",
-                                                          "cylinder", "cone",  "disk",     "polygon"};
+  static constexpr const char* kNames[kShapeTypeCount] = {"sphere", "plane", "triangle", "box",   "mesh", "cylinder",
+                                                          "cone",   "disk",  "polygon",  "torus", "csg"};
   return kNames[static_cast<int>(t)];
 }
 
@@ -237,6 +237,8 @@ struct Scene {
   std::vector<Cone> cones;  // cylinders and cones
   std::vector<Disk> disks;
   std::vector<Polygon> polygons;
+  std::vector<Torus> tori;
+  std::vector<Csg> csgs;
   std::vector<Mesh> meshes;
   std::vector<Transform> transforms;
   std::vector<Texture> textures;
@@ -275,6 +277,11 @@ uint32_t add_disk(Scene& scene, const Disk& disk, uint32_t material = 0,
 // The polygon as make_polygon (geometry/polygon.h) returns it: triangulated.
 uint32_t add_polygon(Scene& scene, Polygon polygon, uint32_t material = 0,
                      const std::optional<Transform>& transform = std::nullopt);
+
+uint32_t add_torus(Scene& scene, const Torus& torus, uint32_t material = 0,
+                   const std::optional<Transform>& transform = std::nullopt);
+// The CSG tree as the loader builds it; computes csg.bounds.
+uint32_t add_csg(Scene& scene, Csg csg, uint32_t material = 0, const std::optional<Transform>& transform = std::nullopt);
 
 uint32_t add_mesh(Scene& scene, Mesh mesh);  // computes mesh.bounds
 uint32_t add_mesh_object(Scene& scene, uint32_t mesh, uint32_t material = kMeshMaterials, bool smooth = true,

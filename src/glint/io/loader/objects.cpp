@@ -82,7 +82,8 @@ uint32_t SceneReader::material_ref(const Value& v, const Path& path) const {
 
 void SceneReader::read_object(const Value& v, const Path& path) {
   expect_object(v, path);
-  static const Keys types = {"sphere", "plane", "triangle", "box", "mesh", "cylinder", "cone", "disk", "polygon"};
+  static const Keys types = {"sphere", "plane", "triangle", "box",     "mesh", "cylinder",
+                             "cone",   "disk",  "polygon",  "torus", "csg"};
   const Value type_value = require(v, path, "type");
   const size_t type = choice(type_value, join(path, "type"), types, "object type");
   Keys allowed = {"type", "material", "transform", "name"};
@@ -99,6 +100,8 @@ void SceneReader::read_object(const Value& v, const Path& path) {
     case 6: allowed.insert(allowed.end(), {"base", "apex", "base_radius", "apex_radius", "caps"}); break;
     case 7: allowed.insert(allowed.end(), {"center", "normal", "radius", "inner_radius"}); break;
     case 8: allowed.insert(allowed.end(), {"vertices", "normals"}); break;
+    case 9: allowed.insert(allowed.end(), {"center", "axis", "major_radius", "minor_radius"}); break;
+    case 10: allowed.insert(allowed.end(), {"operation", "children"}); break;
   }
   check_keys(v, path, allowed);
   uint32_t material = 0;
@@ -108,13 +111,7 @@ void SceneReader::read_object(const Value& v, const Path& path) {
 
   uint32_t object = 0;
   switch (type) {
-    case 0: {
-      Sphere s;
-      s.center = vec3(require(v, path, "center"), join(path, "center"));
-      s.radius = positive(require(v, path, "radius"), join(path, "radius"));
-      object = add_sphere(scene_, s, material, transform);
-      break;
-    }
+    case 0: object = add_sphere(scene_, read_sphere(v, path), material, transform); break;
     case 1: {
       Plane p;
       p.point = vec3(require(v, path, "point"), join(path, "point"));
@@ -143,16 +140,7 @@ void SceneReader::read_object(const Value& v, const Path& path) {
       }
       break;
     }
-    case 3: {
-      Box b;
-      b.lo = vec3(require(v, path, "min"), join(path, "min"));
-      const Value max_value = require(v, path, "max");
-      b.hi = vec3(max_value, join(path, "max"));
-      if (!(b.hi.x > b.lo.x && b.hi.y > b.lo.y && b.hi.z > b.lo.z))
-        fail(max_value, join(path, "max"), "must be greater than \"min\" on every axis (a box needs a positive size)");
-      object = add_box(scene_, b, material, transform);
-      break;
-    }
+    case 3: object = add_box(scene_, read_box(v, path), material, transform); break;
     case 4: {
       bool smooth = true;
       if (auto x = v.find("smooth")) smooth = boolean(*x, join(path, "smooth"));
@@ -169,7 +157,7 @@ void SceneReader::read_object(const Value& v, const Path& path) {
       break;
     }
     case 5:
-    case 6: object = read_cone(v, path, type == 5, material, transform); break;
+    case 6: object = add_cone(scene_, read_cone(v, path, type == 5), material, transform, type == 5); break;
     case 7: {
       Disk d;
       d.center = vec3(require(v, path, "center"), join(path, "center"));
@@ -186,13 +174,139 @@ void SceneReader::read_object(const Value& v, const Path& path) {
       break;
     }
     case 8: object = read_polygon(v, path, material, transform); break;
+    case 9: object = add_torus(scene_, read_torus(v, path), material, transform); break;
+    case 10: {
+      Csg csg;
+      csg.nodes.emplace_back();
+      read_csg_operation(v, path, material, std::nullopt, csg, 0, 1);
+      object = add_csg(scene_, std::move(csg), material, transform);
+      break;
+    }
   }
   if (auto n = v.find("name")) scene_.object_names[object] = string(*n, join(path, "name"));
 }
 
+Sphere SceneReader::read_sphere(const Value& v, const Path& path) const {
+  Sphere s;
+  s.center = vec3(require(v, path, "center"), join(path, "center"));
+  s.radius = positive(require(v, path, "radius"), join(path, "radius"));
+  return s;
+}
+
+Box SceneReader::read_box(const Value& v, const Path& path) const {
+  Box b;
+  b.lo = vec3(require(v, path, "min"), join(path, "min"));
+  const Value max_value = require(v, path, "max");
+  b.hi = vec3(max_value, join(path, "max"));
+  if (!(b.hi.x > b.lo.x && b.hi.y > b.lo.y && b.hi.z > b.lo.z))
+    fail(max_value, join(path, "max"), "must be greater than \"min\" on every axis (a box needs a positive size)");
+  return b;
+}
+
+Torus SceneReader::read_torus(const Value& v, const Path& path) const {
+  Torus t;
+  t.center = vec3(require(v, path, "center"), join(path, "center"));
+  t.axis = direction(require(v, path, "axis"), join(path, "axis"));
+  t.major_radius = positive(require(v, path, "major_radius"), join(path, "major_radius"));
+  const Value minor = require(v, path, "minor_radius");
+  t.minor_radius = positive(minor, join(path, "minor_radius"));
+  if (!(t.minor_radius < t.major_radius))
+    fail(minor, join(path, "minor_radius"),
+         "must be less than \"major_radius\" (" + format_number(t.major_radius) + "; got " +
+             format_number(t.minor_radius) + ")");
+  return t;
+}
+
+// {"operation": ..., "children": [...]} into node `node` of `csg`. `to_csg`
+// maps this level's space into the CSG object's (the transforms of the
+// levels above, composed); children without a material take `material`.
+void SceneReader::read_csg_operation(const Value& v, const Path& path, uint32_t material,
+                                     const std::optional<Transform>& to_csg, Csg& csg, uint32_t node, int depth) {
+  static const Keys operations = {"union", "intersection", "difference"};
+  CsgNode op;
+  op.op = static_cast<CsgOp>(choice(require(v, path, "operation"), join(path, "operation"), operations,
+                                    "CSG operation"));
+  const Value children = require(v, path, "children");
+  const Path cp = join(path, "children");
+  expect_array(children, cp);
+  if (children.size() < 2)
+    fail(children, cp, "a csg needs two or more children (got " + std::to_string(children.size()) + ")");
+  op.first = static_cast<uint32_t>(csg.child_nodes.size());
+  op.count = static_cast<uint32_t>(children.size());
+  csg.child_nodes.resize(csg.child_nodes.size() + children.size());
+  for (size_t i = 0; i < children.size(); ++i) {
+    const auto child = static_cast<uint32_t>(csg.nodes.size());
+    csg.nodes.emplace_back();
+    csg.child_nodes[op.first + i] = child;
+    read_csg_child(children[i], index(cp, i), material, to_csg, csg, child, depth);
+  }
+  csg.nodes[node] = op;
+}
+
+void SceneReader::read_csg_child(const Value& v, const Path& path, uint32_t material,
+                                 const std::optional<Transform>& to_csg, Csg& csg, uint32_t node, int depth) {
+  // Nesting deeper than any model needs is a malformed (or hostile) file.
+  if (depth > 64) fail(v, path, "csg nested more than 64 levels deep");
+  expect_object(v, path);
+  static const Keys solids = {"sphere", "box", "cylinder", "cone", "torus", "csg"};
+  const Value type_value = require(v, path, "type");
+  const Path tp = join(path, "type");
+  const std::string type_name = string(type_value, tp);
+  for (const char* open : {"plane", "triangle", "mesh", "disk", "polygon"})
+    if (type_name == open)
+      fail(type_value, tp,
+           "a csg child must be a closed solid (sphere, box, cylinder, cone, torus or csg), not a " + type_name);
+  const size_t type = choice(type_value, tp, solids, "csg child type");
+  Keys allowed = {"type", "material", "transform", "name"};
+  switch (type) {
+    case 0: allowed.insert(allowed.end(), {"center", "radius"}); break;
+    case 1: allowed.insert(allowed.end(), {"min", "max"}); break;
+    case 2: allowed.insert(allowed.end(), {"base", "apex", "radius", "caps"}); break;
+    case 3: allowed.insert(allowed.end(), {"base", "apex", "base_radius", "apex_radius", "caps"}); break;
+    case 4: allowed.insert(allowed.end(), {"center", "axis", "major_radius", "minor_radius"}); break;
+    case 5: allowed.insert(allowed.end(), {"operation", "children"}); break;
+  }
+  check_keys(v, path, allowed);
+  if (auto m = v.find("material")) material = material_ref(*m, join(path, "material"));
+  std::optional<Transform> xf = to_csg;
+  if (auto t = v.find("transform")) {
+    const std::optional<Transform> own = read_transform(*t, join(path, "transform"));
+    xf = xf ? compose(*xf, *own) : own;
+  }
+  if (type == 5) {
+    read_csg_operation(v, path, material, xf, csg, node, depth + 1);
+    return;
+  }
+  CsgLeaf leaf;
+  leaf.material = material;
+  leaf.transform = xf;
+  if (auto n = v.find("name")) leaf.name = string(*n, join(path, "name"));
+  switch (type) {
+    case 0: leaf.sphere = read_sphere(v, path); break;
+    case 1:
+      leaf.type = CsgLeafType::box;
+      leaf.box = read_box(v, path);
+      break;
+    case 2:
+    case 3:
+      leaf.type = CsgLeafType::cone;
+      leaf.cylinder = type == 2;
+      leaf.cone = read_cone(v, path, type == 2);
+      if (!leaf.cone.caps)
+        fail(*v.find("caps"), join(path, "caps"), "a csg child must be a closed solid: \"caps\" cannot be false");
+      break;
+    case 4:
+      leaf.type = CsgLeafType::torus;
+      leaf.torus = read_torus(v, path);
+      break;
+  }
+  csg.nodes[node].leaf = true;
+  csg.nodes[node].index = static_cast<uint32_t>(csg.leaves.size());
+  csg.leaves.push_back(std::move(leaf));
+}
+
 // A cylinder (base, apex, radius) or a cone (base, apex, base_radius, apex_radius).
-uint32_t SceneReader::read_cone(const Value& v, const Path& path, bool cylinder, uint32_t material,
-                                const std::optional<Transform>& transform) {
+Cone SceneReader::read_cone(const Value& v, const Path& path, bool cylinder) const {
   const Vec3 base = vec3(require(v, path, "base"), join(path, "base"));
   const Value apex_value = require(v, path, "apex");
   const Vec3 apex = vec3(apex_value, join(path, "apex"));
@@ -211,7 +325,7 @@ uint32_t SceneReader::read_cone(const Value& v, const Path& path, bool cylinder,
   }
   bool caps = true;
   if (auto x = v.find("caps")) caps = boolean(*x, join(path, "caps"));
-  return add_cone(scene_, make_cone(base, apex, r0, r1, caps), material, transform, cylinder);
+  return make_cone(base, apex, r0, r1, caps);
 }
 
 // A polygon: checked and triangulated by make_polygon (geometry/polygon.h).

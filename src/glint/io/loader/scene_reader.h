@@ -226,8 +226,14 @@ class SceneReader {
   void read_objects(const Value& list);
   uint32_t material_ref(const Value& v, const Path& path) const;
   void read_object(const Value& v, const Path& path);
-  uint32_t read_cone(const Value& v, const Path& path, bool cylinder, uint32_t material,
-                     const std::optional<Transform>& transform);
+  Sphere read_sphere(const Value& v, const Path& path) const;
+  Box read_box(const Value& v, const Path& path) const;
+  Cone read_cone(const Value& v, const Path& path, bool cylinder) const;
+  Torus read_torus(const Value& v, const Path& path) const;
+  void read_csg_operation(const Value& v, const Path& path, uint32_t material, const std::optional<Transform>& to_csg,
+                          Csg& csg, uint32_t node, int depth);
+  void read_csg_child(const Value& v, const Path& path, uint32_t material, const std::optional<Transform>& to_csg,
+                      Csg& csg, uint32_t node, int depth);
   uint32_t read_polygon(const Value& v, const Path& path, uint32_t material, const std::optional<Transform>& transform);
 
   // --- meshes: files, inline and attached (meshes.cpp) -------------------
