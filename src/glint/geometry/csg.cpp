@@ -144,7 +144,9 @@ void operation_spans(const Csg& csg, const CsgNode& node, const Ray& ray, Spans&
       ends.push_back({s.out.t, k, false, s.out});
     }
   }
-  std::sort(ends.begin(), ends.end(), [](const End& a, const End& b) { return a.t < b.t; });
+  // A few ends, mostly in order already: insertion sort.
+  for (size_t i = 1; i < ends.size(); ++i)
+    for (size_t j = i; j > 0 && ends[j].t < ends[j - 1].t; --j) std::swap(ends[j], ends[j - 1]);
   // Children inside at the sweep's point: all of them, or the first and
   // no other, by the operation.
   uint32_t inside = 0, first_inside = 0;

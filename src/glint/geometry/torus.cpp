@@ -33,66 +33,58 @@ struct TorusLine {
 };
 
 // The root of g in [lo, hi], where g(lo) and g(hi) differ in sign: Newton
-// steps kept inside the shrinking bracket, bisection when a step leaves it.
+// steps kept inside the shrinking bracket, bisection when a step leaves it;
+// done when a step moves less than `tol`.
+// g_lo and g_hi are g's values at the ends: the first guess is where the
+// chord between them crosses zero.
 template <class G, class DG>
-double bracketed_root(double lo, double hi, G g, DG dg) {
-  double glo = g(lo);
-  double s = 0.5 * (lo + hi);
-  for (int i = 0; i < 100; ++i) {
+double bracketed_root(double lo, double hi, double g_lo, double g_hi, double tol, G g, DG dg) {
+  const bool lo_negative = g_lo < 0.0;
+  double s = lo + (hi - lo) * (g_lo / (g_lo - g_hi));
+  if (!(s > lo && s < hi)) s = 0.5 * (lo + hi);
+  for (int i = 0; i < 64; ++i) {
     const double gs = g(s);
     if (gs == 0.0) return s;
-    if ((gs < 0.0) == (glo < 0.0)) {
-      lo = s;
-      glo = gs;
-    } else {
-      hi = s;
-    }
+    ((gs < 0.0) == lo_negative ? lo : hi) = s;
     const double d = dg(s);
     double next = d != 0.0 ? s - gs / d : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (next == s || hi - lo <= 4e-16 * std::max(std::abs(lo), std::abs(hi))) return next;
+    if (std::abs(next - s) <= tol || hi - lo <= tol) return next;
     s = next;
   }
   return s;
 }
 
-double poly(const double* c, int degree, double s) {
-  double v = c[degree];
-  for (int k = degree - 1; k >= 0; --k) v = v * s + c[k];
-  return v;
-}
-
-// The real roots in (lo, hi) of the polynomial c (degree 1 to 4), ascending,
-// where it changes sign: the pieces between the derivative's roots are
-// monotone, so each holds at most one. Returns the count.
-int sign_change_roots(const double* c, int degree, double lo, double hi, double* roots) {
-  if (degree == 1) {
-    if (c[1] == 0.0) return 0;
-    const double r = -c[0] / c[1];
-    if (r > lo && r < hi) {
-      roots[0] = r;
-      return 1;
-    }
-    return 0;
+// The quartic c[0..4] (c[4] = 1) cut into pieces over (lo, hi) on which it
+// is monotone: the cuts are the sign changes of its derivative, whose own
+// monotone pieces lie between the roots of the second derivative (a
+// quadratic, solved in closed form). Returns the number of cuts written
+// (lo and hi included).
+int monotone_cuts(const double c[5], double lo, double hi, double tol, double* cuts) {
+  const double d1[4] = {c[1], 2 * c[2], 3 * c[3], 4 * c[4]};  // f'
+  const double d2[3] = {d1[1], 2 * d1[2], 3 * d1[3]};          // f''
+  double pieces[4];
+  int np = 0;
+  pieces[np++] = lo;
+  const double disc = d2[1] * d2[1] - 4 * d2[2] * d2[0];
+  if (disc > 0.0) {
+    const double q = -0.5 * (d2[1] + std::copysign(std::sqrt(disc), d2[1]));
+    double r0 = q / d2[2], r1 = q != 0.0 ? d2[0] / q : r0;
+    if (r0 > r1) std::swap(r0, r1);
+    if (r0 > lo && r0 < hi) pieces[np++] = r0;
+    if (r1 > lo && r1 < hi && r1 > r0) pieces[np++] = r1;
   }
-  double d[4];
-  for (int k = 1; k <= degree; ++k) d[k - 1] = k * c[k];
-  double cuts[5];
+  pieces[np++] = hi;
+  const auto g = [&](double s) { return ((d1[3] * s + d1[2]) * s + d1[1]) * s + d1[0]; };
+  const auto dg = [&](double s) { return (d2[2] * s + d2[1]) * s + d2[0]; };
   int n = 0;
   cuts[n++] = lo;
-  double inner[3];
-  const int m = sign_change_roots(d, degree - 1, lo, hi, inner);
-  for (int k = 0; k < m; ++k) cuts[n++] = inner[k];
-  cuts[n++] = hi;
-  int count = 0;
-  const auto g = [&](double s) { return poly(c, degree, s); };
-  const auto dg = [&](double s) { return poly(d, degree - 1, s); };
-  for (int k = 0; k + 1 < n; ++k) {
-    const double a = cuts[k], b = cuts[k + 1];
-    const double ga = g(a), gb = g(b);
-    if ((ga < 0.0) != (gb < 0.0) && ga != 0.0) roots[count++] = bracketed_root(a, b, g, dg);
+  for (int k = 0; k + 1 < np; ++k) {
+    const double ga = g(pieces[k]), gb = g(pieces[k + 1]);
+    if ((ga < 0.0) != (gb < 0.0)) cuts[n++] = bracketed_root(pieces[k], pieces[k + 1], ga, gb, tol, g, dg);
   }
-  return count;
+  cuts[n++] = hi;
+  return n;
 }
 
 }  // namespace
@@ -114,28 +106,36 @@ int torus_crossings(const Torus& torus, const Ray& ray, double t[4]) {
   const double four_r2 = 4.0 * R * R;
   TorusLine line{1.0, 2.0 * pb, pp + R * R - r * r,
                  four_r2 * (1.0 - da * da), four_r2 * 2.0 * (pb - pa * da), four_r2 * (pp - pa * pa)};
-  // Every root lies inside the bounding sphere: |s| < half its chord.
-  const double half_chord = std::sqrt(bound * bound - pp) * (1.0 + 1e-9) + 1e-12 * bound;
+  // Every root lies inside the bounding sphere (|s| < half its chord) and
+  // in the slab |q.axis| <= r.
+  const double slack = 1e-9 * bound;
+  const double half_chord = std::sqrt(bound * bound - pp) + slack;
+  double lo = -half_chord, hi = half_chord;
+  if (std::abs(da) > 1e-12) {
+    double s0 = (-r - pa) / da, s1 = (r - pa) / da;
+    if (s0 > s1) std::swap(s0, s1);
+    lo = std::max(lo, s0 - slack);
+    hi = std::min(hi, s1 + slack);
+    if (!(lo < hi)) return 0;
+  } else if (std::abs(pa) > r) {
+    return 0;
+  }
   double c[5];
   line.expanded(c);
-  // The quartic's own critical points split the chord into monotone pieces;
-  // each root is then polished on f written as A^2 - B.
-  double d1[4];
-  for (int k = 1; k <= 4; ++k) d1[k - 1] = k * c[k];
+  // The quartic's critical points split [lo, hi] into monotone pieces; the
+  // root of each piece whose ends differ in sign is polished on f written
+  // as A^2 - B.
   double cuts[5];
-  int n = 0;
-  cuts[n++] = -half_chord;
-  double crit[3];
-  const int m = sign_change_roots(d1, 3, -half_chord, half_chord, crit);
-  for (int k = 0; k < m; ++k) cuts[n++] = crit[k];
-  cuts[n++] = half_chord;
+  const int n = monotone_cuts(c, lo, hi, 1e-8 * bound, cuts);
   const auto f = [&](double s) { return line.f(s); };
   const auto df = [&](double s) { return line.df(s); };
   int count = 0;
+  double f_prev = f(cuts[0]);
   for (int k = 0; k + 1 < n && count < 4; ++k) {
-    const double a = cuts[k], b = cuts[k + 1];
-    const double fa = f(a), fb = f(b);
-    if ((fa < 0.0) != (fb < 0.0)) t[count++] = (sc + bracketed_root(a, b, f, df)) / len;
+    const double f_next = f(cuts[k + 1]);
+    if ((f_prev < 0.0) != (f_next < 0.0))
+      t[count++] = (sc + bracketed_root(cuts[k], cuts[k + 1], f_prev, f_next, 1e-15 * bound, f, df)) / len;
+    f_prev = f_next;
   }
   if (count % 2 != 0) --count;  // a touch that rounding split unevenly: not a crossing
   return count;
