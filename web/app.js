@@ -227,12 +227,81 @@ function buildRender(parent) {
   });
 }
 
+// Keys that belong to one camera type (the loader refuses them on others).
+const CAMERA_KEYS = { perspective: ['fov_y', 'aperture', 'focus_distance'], orthographic: ['view_height'],
+  fisheye: ['fov'], equirectangular: [] };
+let focusOnClick = false;
+
 function buildCamera(parent) {
   const cam = (key, d) => () => at('camera.' + key) ?? d;
+  const type = at('camera.type') || 'perspective';
+  selectControl(parent, 'type', 'camera.type', Object.keys(CAMERA_KEYS), {
+    read: cam('type', 'perspective'),
+    write: (v) => {
+      // The other types' keys go first, in the same edit (each step is checked).
+      const edits = [];
+      for (const [t, keys] of Object.entries(CAMERA_KEYS))
+        if (t !== v) for (const k of keys) if (at('camera.' + k) !== undefined) edits.push({ op: 'erase', path: 'camera.' + k });
+      edits.push({ op: 'set', path: 'camera.type', value: v });
+      sendEdits(edits, 'camera.type');
+    },
+  });
   vectorControl(parent, 'position', 'camera.position', { read: cam('position', [0, 0, 0]), write: set('camera.position') });
   vectorControl(parent, 'look at', 'camera.look_at', { read: cam('look_at', [0, 0, -1]), write: set('camera.look_at') });
   vectorControl(parent, 'up', 'camera.up', { read: cam('up', [0, 1, 0]), write: set('camera.up') });
-  sliderControl(parent, 'fov y (°)', 'camera.fov_y', { min: 5, max: 120, step: 0.5, read: cam('fov_y', 45) });
+  if (type === 'perspective') {
+    sliderControl(parent, 'fov y (°)', 'camera.fov_y', { min: 5, max: 120, step: 0.5, read: cam('fov_y', 45) });
+    sliderControl(parent, 'aperture', 'camera.aperture', { min: 0, max: 1, step: 0.005, read: cam('aperture', 0) });
+    const { pos, look } = cameraNow();
+    sliderControl(parent, 'focus distance', 'camera.focus_distance', {
+      min: 0.1, max: Math.max(20, 4 * Math.hypot(...sub(look, pos))), step: 0.01,
+      read: () => at('camera.focus_distance') ?? Math.hypot(...sub(at('camera.look_at') || [0, 0, -1], at('camera.position') || [0, 0, 0])),
+    });
+    checkControl(parent, 'click to focus', 'view.focus_click', { read: () => focusOnClick, write: (v) => { focusOnClick = v; } });
+  } else if (type === 'orthographic') {
+    sliderControl(parent, 'view height', 'camera.view_height', { min: 0.1, max: 100, step: 0.1, read: cam('view_height', 2) });
+  } else if (type === 'fisheye') {
+    sliderControl(parent, 'fov (°)', 'camera.fov', { min: 1, max: 360, step: 1, read: cam('fov', 180) });
+  }
+}
+
+// Fog and the environment (render.fog, render.environment).
+function buildAtmosphere(parent) {
+  const fogType = at('render.fog.type') || 'none';
+  selectControl(parent, 'fog', 'render.fog.type', ['none', 'linear', 'exp', 'exp2'], {
+    read: () => at('render.fog.type') || 'none',
+    write: (v) => {
+      if (v === 'none') {
+        if (at('render.fog') !== undefined) sendEdits([{ op: 'erase', path: 'render.fog' }], 'render.fog');
+        return;
+      }
+      const { pos, look } = cameraNow();
+      const d = Math.hypot(...sub(look, pos));
+      const fog = { type: v, color: asColor(at('render.fog.color') ?? at('render.background'), 0.5) };
+      if (v === 'linear') Object.assign(fog, { start: 0, end: 3 * d });
+      else fog.density = 0.5 / d;
+      sendEdits([{ op: 'set', path: 'render.fog', value: fog }], 'render.fog');
+    },
+  });
+  if (fogType !== 'none') {
+    colorControl(parent, 'fog color', 'render.fog.color', {
+      read: () => asColor(at('render.fog.color') ?? at('render.background'), 0), write: set('render.fog.color'),
+    });
+    if (fogType === 'linear') {
+      sliderControl(parent, 'fog start', 'render.fog.start', { min: 0, max: 200, step: 0.1, read: () => at('render.fog.start') ?? 0 });
+      sliderControl(parent, 'fog end', 'render.fog.end', { min: 0.1, max: 400, step: 0.1, read: () => at('render.fog.end') });
+    } else {
+      sliderControl(parent, 'fog density', 'render.fog.density', { min: 0.001, max: 2, step: 0.001, read: () => at('render.fog.density') });
+    }
+  }
+  if (at('render.environment') !== undefined) {
+    sliderControl(parent, 'sky rotate (°)', 'render.environment.rotate', {
+      min: -180, max: 180, step: 1, read: () => at('render.environment.rotate') ?? 0,
+    });
+    colorControl(parent, 'sky scale', 'render.environment.scale', {
+      read: () => asColor(at('render.environment.scale'), 1), write: set('render.environment.scale'), max: 4,
+    });
+  }
 }
 
 function buildMaterial(parent, name) {
@@ -309,6 +378,7 @@ function rebuild() {
   sel.value = selectedMaterial || '';
   buildView($('view-controls'));
   buildRender($('render-controls'));
+  buildAtmosphere($('render-controls'));
   buildCamera($('camera-controls'));
   buildMaterial($('material-controls'), selectedMaterial);
   buildLights($('light-controls'));
@@ -346,7 +416,9 @@ function applyState(s) {
     applyState.noticeSeq = s.notice_seq;
   }
   const lights = (s.scene.lights || []).map((l) => l.type + (l.color !== undefined ? 'c' : '')).join(',');
-  const shape = [Object.keys(s.scene.materials || {}).join('|'), lights, selectedMaterial].join('/');
+  // Controls that depend on a type are built again when it changes.
+  const kinds = [(s.scene.camera || {}).type, ((s.scene.render || {}).fog || {}).type, !!(s.scene.render || {}).environment];
+  const shape = [Object.keys(s.scene.materials || {}).join('|'), lights, selectedMaterial, ...kinds].join('/');
   if (shape !== structure) {
     structure = shape;
     rebuild();
@@ -526,13 +598,17 @@ function nodeView(node, label) {
   d.open = node.depth <= 2;
   const s = document.createElement('summary');
   s.append(chip(node.color), `${label} · depth ${node.depth} · `);
-  if (!node.hit) s.append('miss (background) ');
+  if (!node.hit) s.append(node.environment ? `miss (environment at uv ${fmtRgb(node.environment.uv)}) ` : 'miss (background) ');
   else s.append(`hit ${node.hit.name ? '"' + node.hit.name + '"' : '#' + node.hit.object} (${node.hit.type || 'object'}), material ${node.hit.material}, t = ${fmt(node.hit.t)} `);
   s.append(el('span', `color ${fmtRgb(node.color)}`, 'rgb'));
   d.append(s);
   const h = node.hit;
   if (!h) return d;
   d.append(el('div', `point ${fmtRgb(h.point)} · normal ${fmtRgb(h.normal)}`, 'muted'));
+  if (h.csg) d.append(el('div', `csg solid #${h.csg.child}${h.csg.name ? ' "' + h.csg.name + '"' : ''}${h.csg.flipped ? ' (subtracted)' : ''}`, 'muted'));
+  if (node.fog) d.append(el('div', `fog: f ${fmt(node.fog.f)} of the shaded color, the rest ${fmtRgb(node.fog.color)}`, 'muted'));
+  for (const l of h.lights || [])
+    if (l.occlusion) d.append(el('div', `ambient occlusion (light ${l.index}): ${fmt(l.occlusion.visibility)} of ${l.occlusion.samples} directions open`, 'muted'));
   const table = document.createElement('table');
   const head = document.createElement('tr');
   for (const t of ['light', 'type', 'l·n', 'shadowed', 'spec cos', 'ambient', 'diffuse', 'specular']) head.append(el('th', t));
@@ -560,6 +636,12 @@ async function explainPixel(x, y) {
     box.classList.remove('muted');
     box.append(el('div', `pixel (${x}, ${y}) · color ${fmtRgb(tree.color)}`));
     box.append(nodeView(tree.ray, 'camera ray'));
+    // Click to focus: the plane in focus through the point hit.
+    if (focusOnClick && tree.ray.hit && (at('camera.type') || 'perspective') === 'perspective') {
+      const { pos, look } = cameraNow();
+      const d = dot(sub(tree.ray.hit.point, pos), norm(sub(look, pos)));
+      if (d > 0) sendEdits([{ op: 'set', path: 'camera.focus_distance', value: d }], 'camera.focus_distance');
+    }
     // Clicking an object selects its material.
     if (tree.ray.hit && tree.ray.hit.material && tree.ray.hit.material !== selectedMaterial &&
         (state.scene.materials || {})[tree.ray.hit.material] !== undefined)

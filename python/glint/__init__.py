@@ -185,34 +185,39 @@ class Light(_View):
     "directional", "spot", "area") and the keys that type takes."""
     __slots__ = ()
     _fields = ("type", "name", "ambient", "diffuse", "specular", "color", "position", "direction", "attenuation",
-               "cutoff", "falloff", "corner", "edge_u", "edge_v", "samples")
+               "cutoff", "falloff", "corner", "edge_u", "edge_v", "samples", "occlusion")
 
 
 class Object(_View):
     """An object of ``scene.objects``: ``type`` ("sphere", "plane",
-    "triangle", "box", "mesh", "cylinder", "cone", "disk", "polygon"),
-    ``material``, ``transform``, ``name`` and the shape's keys."""
+    "triangle", "box", "mesh", "cylinder", "cone", "disk", "polygon",
+    "torus", "csg"), ``material``, ``transform``, ``name`` and the shape's
+    keys."""
     __slots__ = ()
     _fields = ("type", "material", "transform", "name", "center", "radius", "point", "normal", "vertices", "uv",
                "min", "max", "file", "smooth", "triangles", "normals", "uvs", "base", "apex", "base_radius",
-               "apex_radius", "caps", "inner_radius")
+               "apex_radius", "caps", "inner_radius", "axis", "major_radius", "minor_radius", "operation",
+               "children")
 
 
 class Camera(_View):
     """``scene.camera``: ``position``, ``look_at``, ``up``, ``fov_y``
-    (degrees), ``type`` ("perspective" or "orthographic"), ``view_height``."""
+    (degrees), ``type`` ("perspective", "orthographic", "fisheye",
+    "equirectangular"), ``view_height``, ``fov`` (fisheye), ``aperture`` and
+    ``focus_distance`` (thin lens), ``stereo``."""
     __slots__ = ()
-    _fields = ("type", "position", "look_at", "up", "fov_y", "view_height")
+    _fields = ("type", "position", "look_at", "up", "fov_y", "view_height", "fov", "aperture", "focus_distance",
+               "stereo")
 
 
 class RenderSettings(_View):
     """``scene.render_settings`` (the document's "render" section):
     ``width``, ``height``, ``samples_per_pixel``, ``max_depth``,
     ``background``, ``epsilon``, ``shading_model``, ``pixel_filter``,
-    ``adaptive``."""
+    ``adaptive``, ``fog``, ``environment``."""
     __slots__ = ()
     _fields = ("width", "height", "samples_per_pixel", "max_depth", "shading_model", "background", "epsilon",
-               "pixel_filter", "adaptive")
+               "pixel_filter", "adaptive", "fog", "environment")
 
 
 class Materials:

@@ -62,6 +62,7 @@ class Light(_View):
     edge_u: Optional[Vec3]
     edge_v: Optional[Vec3]
     samples: Optional[int]
+    occlusion: Optional[Dict[str, Any]]
 
 class Object(_View):
     type: str
@@ -87,6 +88,11 @@ class Object(_View):
     apex_radius: Optional[float]
     caps: Optional[bool]
     inner_radius: Optional[float]
+    axis: Optional[Vec3]
+    major_radius: Optional[float]
+    minor_radius: Optional[float]
+    operation: Optional[str]
+    children: Optional[List[Any]]
 
 class Camera(_View):
     type: Optional[str]
@@ -95,6 +101,10 @@ class Camera(_View):
     up: Optional[Vec3]
     fov_y: Optional[float]
     view_height: Optional[float]
+    fov: Optional[float]
+    aperture: Optional[float]
+    focus_distance: Optional[float]
+    stereo: Optional[Dict[str, Any]]
 
 class RenderSettings(_View):
     width: Optional[int]
@@ -106,6 +116,8 @@ class RenderSettings(_View):
     epsilon: Optional[float]
     pixel_filter: Optional[Union[str, Dict[str, Any]]]
     adaptive: Optional[Dict[str, Any]]
+    fog: Optional[Dict[str, Any]]
+    environment: Optional[Dict[str, Any]]
 
 class Materials:
     def __getitem__(self, name: str) -> Material: ...

@@ -242,3 +242,41 @@ def test_an_animated_scenes_material_edit_reuses_the_geometry(root):
     assert glint.render(scene, width=48, height=27, frame=30).stats["builds"] == 3
     # Another frame is another renderer (as glint render --frames).
     assert glint.render(scene, width=48, height=27, frame=31).stats["builds"] == 1
+
+
+def test_cameras_fog_occlusion_and_solids_beyond_the_seed(small):
+    """The contract's version 1 additions through the views: each edit is
+    checked as the loader checks it and changes the image."""
+    plain = glint.render(small).image
+    small.camera.type = "fisheye"
+    small.camera.fov = 200
+    fish = glint.render(small).image
+    assert fish.shape == plain.shape and not np.array_equal(bits(fish), bits(plain))
+    with pytest.raises(glint.SceneError) as e:
+        small.camera.fov = 400
+    assert "camera.fov" in str(e.value) and small.camera.fov == 200
+    # The fisheye's key goes before the type changes back (the loader refuses it on a perspective camera).
+    del small.camera.fov
+    small.camera.type = "perspective"
+    assert np.array_equal(bits(glint.render(small).image), bits(plain))
+    small.camera.stereo = {"eye_separation": 0.2}
+    pair = glint.render(small).image
+    assert pair.shape[1] == 2 * plain.shape[1]
+    del small.camera.stereo
+    small.render_settings.fog = {"type": "exp", "density": 0.2, "color": [0.5, 0.5, 0.5]}
+    foggy = glint.render(small).image
+    assert not np.array_equal(bits(foggy), bits(plain))
+    with pytest.raises(glint.SceneError):
+        small.render_settings.fog = {"type": "exp", "density": 0}
+    del small.render_settings.fog
+    small.objects.append({"type": "torus", "center": [0, 1, 0], "axis": [0, 1, 0], "major_radius": 0.6,
+                          "minor_radius": 0.2, "material": "red"})
+    small.objects.append({"type": "csg", "operation": "difference", "material": "red", "children": [
+        {"type": "box", "min": [-0.3, 0, -0.3], "max": [0.3, 0.6, 0.3]},
+        {"type": "sphere", "center": [0, 0.6, 0], "radius": 0.25}]})
+    assert small.objects[len(small.objects) - 2].major_radius == 0.6
+    solids = glint.render(small).image
+    assert not np.array_equal(bits(solids), bits(plain))
+    with pytest.raises(glint.SceneError) as e:
+        small.objects[len(small.objects) - 1].operation = "xor"
+    assert "operation" in str(e.value)

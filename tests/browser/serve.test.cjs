@@ -590,6 +590,47 @@ test('a model file is a scene: framed as glint render frames it, saved as a scen
   }
 });
 
+test('camera type, click to focus, lens and fog are controls; the frame is glint render of the scene', async () => {
+  const scene = () => page.evaluate(() => window.glintPreview.state.scene);
+  const errorsBefore = pageErrors.length;
+  // A fisheye: its own fov control replaces fov y.
+  await page.selectOption('select[data-path="camera.type"]', 'fisheye');
+  await until(page, () => window.glintPreview.state.scene.camera.type === 'fisheye' &&
+    document.querySelector('input[type=range][data-path="camera.fov"]') !== null);
+  await setRange('input[type=range][data-path="camera.fov"]', 200);
+  await settled(page, { 'scene.camera.fov': 200 });
+  assert.equal(await diffWithPng(glintRender(writeScene(await scene()))), 0);
+  // Back to perspective: the fisheye's key goes with the change.
+  await page.selectOption('select[data-path="camera.type"]', 'perspective');
+  await until(page, () => window.glintPreview.state.scene.camera.type === 'perspective' &&
+    window.glintPreview.state.scene.camera.fov === undefined);
+  // Click to focus: the plane in focus passes through the point clicked.
+  await page.check('input[data-path="view.focus_click"]');
+  const [x, y] = [Math.round(140 * W / 480), Math.round(170 * H / 270)];  // on the red ball
+  const box = await page.locator('#frame').boundingBox();
+  await page.mouse.click(box.x + (x + 0.5) * box.width / W, box.y + (y + 0.5) * box.height / H);
+  await until(page, () => window.glintPreview.state.scene.camera.focus_distance !== undefined);
+  const doc = await scene();
+  const tree = JSON.parse(execFileSync(GLINT, ['explain', writeScene(doc), '--pixel', String(x), String(y), '--json']));
+  const forward = doc.camera.look_at.map((v, i) => v - doc.camera.position[i]);
+  const len = Math.hypot(...forward);
+  const want = tree.ray.hit.point.reduce((acc, v, i) => acc + (v - doc.camera.position[i]) * forward[i] / len, 0);
+  assert.ok(Math.abs(doc.camera.focus_distance - want) < 1e-9, `${doc.camera.focus_distance} vs ${want}`);
+  await page.uncheck('input[data-path="view.focus_click"]');
+  // A lens and fog: still glint render's image, pixel for pixel.
+  await setRange('input[type=range][data-path="camera.aperture"]', 0.1);
+  await page.selectOption('select[data-path="render.fog.type"]', 'exp');
+  await until(page, () => document.querySelector('input[type=range][data-path="render.fog.density"]') !== null);
+  await setRange('input[type=range][data-path="render.fog.density"]', 0.05);
+  await settled(page, { 'scene.camera.aperture': 0.1, 'scene.render.fog.density': 0.05 });
+  assert.equal(await diffWithPng(glintRender(writeScene(await scene()))), 0);
+  // No fog again: the key is gone.
+  await page.selectOption('select[data-path="render.fog.type"]', 'none');
+  await until(page, () => window.glintPreview.state.scene.render.fog === undefined);
+  await settled(page);
+  assert.deepEqual(pageErrors.slice(errorsBefore), []);  // every edit above was accepted
+});
+
 test('requests from elsewhere are refused', async () => {
   const port = new URL(url).port;
   const edit = JSON.stringify({ edits: [{ op: 'set', path: 'render.max_depth', value: 1 }] });
