@@ -48,4 +48,11 @@ render scenes/figures/quadrics.json -o "$OUT/quadrics.png"
 render scenes/showcase.json -o "$OUT/showcase.png"
 render scenes/meshes/bunny.json -o "$OUT/bunny.png"
 render scenes/textures/textures.json -o "$OUT/textures.png"
+# Beyond the seed (scenes/beyond): cameras, atmosphere, solids.
+for s in fisheye panorama focus fog ambient-occlusion die torus-knot sky; do
+  render scenes/beyond/$s.json -o "$TMP/beyond-$s.ppm"
+done
+python3 scripts/montage.py "$OUT/beyond-cameras.png" "$TMP"/beyond-{fisheye,panorama}.ppm
+python3 scripts/montage.py "$OUT/beyond-atmosphere.png" "$TMP"/beyond-{focus,fog,ambient-occlusion}.ppm
+python3 scripts/montage.py "$OUT/beyond-solids.png" "$TMP"/beyond-{die,torus-knot,sky}.ppm
 echo "figures written to $OUT/"

@@ -14,7 +14,7 @@ namespace glint {
 namespace {
 
 // Checks the contract's identity at every node; returns the number of nodes.
-int check_sums(const RayTrace& t) {
+int check_sums(const Scene& scene, const RayTrace& t) {
   int nodes = 1;
   if (!t.hit) return nodes;
   Color sum(0.0);
@@ -27,12 +27,13 @@ int check_sums(const RayTrace& t) {
   sum = ambient + diffuse + specular;
   if (t.reflection) {
     sum += t.reflection_weight * t.reflection->color;
-    nodes += check_sums(*t.reflection);
+    nodes += check_sums(scene, *t.reflection);
   }
   if (t.refraction) {
     sum += t.refraction_weight * t.refraction->color;
-    nodes += check_sums(*t.refraction);
+    nodes += check_sums(scene, *t.refraction);
   }
+  if (t.fog) sum = *t.fog * sum + (1.0 - *t.fog) * scene.render.fog->color;  // f C + (1 - f) c
   EXPECT_NEAR(sum.x, t.color.x, 1e-12);
   EXPECT_NEAR(sum.y, t.color.y, 1e-12);
   EXPECT_NEAR(sum.z, t.color.z, 1e-12);
@@ -56,7 +57,7 @@ TEST(Explain, EqualsTheRenderedPixelForEveryExampleScene) {
         ASSERT_EQ(static_cast<float>(e.color.x), p[0]) << entry.path() << " " << x << "," << y;
         ASSERT_EQ(static_cast<float>(e.color.y), p[1]);
         ASSERT_EQ(static_cast<float>(e.color.z), p[2]);
-        check_sums(e.ray);
+        check_sums(scene, e.ray);
       }
     }
     ++scenes;

@@ -154,11 +154,11 @@ TEST(CameraPackets, SameColorsAsRayByRayOnTheExampleScenes) {
     scene.render.height = 48;
     const auto bvh = build_accelerator(scene, AcceleratorOptions{1, AccelBackend::bvh});
     if (!Integrator(scene, *bvh).shades_packets()) {
-      // Area lights draw each pixel's random numbers: such scenes keep the
-      // pixel-by-pixel path.
-      bool area = false;
-      for (const Light& light : scene.lights) area |= light.type == LightType::area;
-      EXPECT_TRUE(area) << entry.path();
+      // Area lights and ambient occlusion draw each pixel's random
+      // numbers: such scenes keep the pixel-by-pixel path.
+      bool random = false;
+      for (const Light& light : scene.lights) random |= light.type == LightType::area || light.occlusion_samples > 0;
+      EXPECT_TRUE(random) << entry.path();
       continue;
     }
     ++scenes;
