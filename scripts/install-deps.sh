@@ -16,13 +16,14 @@ BUILD=(
 # The optional parts, found by CMake when present (each a plugin of the program),
 # and the test tools: GoogleTest, Google Benchmark, clang with its sanitizer and
 # libFuzzer runtimes (the sanitizer half and the fuzz smoke), real-world meshes,
-# the Python module's build and tests, Chromium for glint serve's browser test.
+# the Python module's build and tests, Chromium for glint serve's browser test,
+# POV-Ray (an independent renderer the torus is checked against).
 TEST=(
   libembree-dev libassimp-dev libopenmpi-dev openmpi-bin libcpp-httplib-dev
   pybind11-dev python3-pybind11 python3-venv python3-setuptools python3-pip
   libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-dev
   assimp-testmodels python3 python3-jsonschema python3-pytest python3-numpy
-  chromium nodejs
+  chromium nodejs povray
 )
 case "$GROUP" in
   build) PACKAGES=("${BUILD[@]}" "$@") ;;

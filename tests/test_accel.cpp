@@ -960,6 +960,10 @@ void expect_same_image_with_both_backends(const std::string& scene_file) {
 TEST(Backends, SameImageForTheMeshShowcase) { expect_same_image_with_both_backends("scenes/meshes/bunny.json"); }
 TEST(Backends, SameImageForTheShowcase) { expect_same_image_with_both_backends("scenes/showcase.json"); }
 TEST(Backends, SameImageForRefraction) { expect_same_image_with_both_backends("scenes/figures/refraction.json"); }
+TEST(Backends, SameImageForCsgAndTori) {
+  expect_same_image_with_both_backends("scenes/beyond/die.json");
+  expect_same_image_with_both_backends("scenes/beyond/torus-knot.json");
+}
 
 TEST(Backends, EmbreeIsRefusedClearlyWhenMissing) {
   if (embree_available()) GTEST_SKIP() << "glint was built with Embree";
