@@ -345,6 +345,13 @@ TEST(FuzzRegressions, ExrWhosePixelsFailToDecodeIsFreedOnce) {
       << texture_error("exr-corrupt-pixels-double-free.exr");
 }
 
+// A data window from y = -2^31 to 5: its height overflows an int, and
+// tinyexr asked for 2^63 bytes of chunk offsets before reading a pixel.
+TEST(FuzzRegressions, ExrWhoseDataWindowOverflowsIsRefused) {
+  EXPECT_TRUE(texture_error("exr-data-window-overflows-int.exr").starts_with("cannot read texture: invalid EXR data window"))
+      << texture_error("exr-data-window-overflows-int.exr");
+}
+
 TEST(FuzzRegressions, HdrWithARunOfLengthZeroIsRefused) {
   EXPECT_EQ(texture_error("hdr-run-of-length-zero.hdr"),
             "cannot read texture: corrupt or unsupported image: a run-length encoded scanline of the Radiance file "

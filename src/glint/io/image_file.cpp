@@ -524,6 +524,14 @@ ExrPlanes decode_exr_planes(const fs::path& path, const Bytes& bytes, std::vecto
     fail_read(path, std::string("corrupt EXR header") + (error ? ": " + std::string(error.get()) : ""));
   }
   if (header.tiled) fail_read(path, "tiled EXR files are not supported");
+  // tinyexr sizes its tables from the data window before it reads a pixel:
+  // a window whose size overflows an int asked for 2^63 bytes. Its size is
+  // checked here, in 64 bits, as every image's is.
+  const EXRBox2i& window = header.data_window;
+  const long long w = static_cast<long long>(window.max_x) - window.min_x + 1;
+  const long long h = static_cast<long long>(window.max_y) - window.min_y + 1;
+  if (!valid_image_size(static_cast<long>(w), static_cast<long>(h)))
+    fail_read(path, "invalid EXR data window " + std::to_string(w) + "x" + std::to_string(h));
   for (int c = 0; c < header.num_channels; ++c) {
     const EXRChannelInfo& channel = header.channels[c];
     if (channel.x_sampling != 1 || channel.y_sampling != 1)
