@@ -1,9 +1,12 @@
-// Ray/torus intersection. The torus (shape_types.h) is the quartic
-// ((|q|^2 + R^2 - r^2)^2 = 4 R^2 |q_plane|^2, q the offset from the center);
-// its roots along a ray are found as the roots of the distance to the center
-// circle squared minus r^2, whose convex and concave stretches along the ray
-// are known in closed form, so that Newton's method started from the right
-// end of each stretch can neither miss a crossing nor leave its bracket.
+// Ray/torus intersection. Along a line the torus's quartic ((|q|^2 + R^2 -
+// r^2)^2 = 4 R^2 |q across the axis|^2, q the offset from the center) has
+// the roots of g = (distance to the center circle)^2 - r^2 = A - 2 R rho:
+// A is a quadratic and rho, the distance from the axis, a hyperbola. So g is
+// convex but for one stretch about the line's point nearest the axis, found
+// in closed form, and on each stretch Newton's method from the right end
+// climbs to the first root without passing it; rho's chord gives a closer
+// start, or proves a stretch empty. Roots come out within a few ulps of the
+// torus's size (of the origin's distance, for a ray from far away).
 #pragma once
 
 #include <optional>
@@ -22,8 +25,25 @@ namespace glint {
 // need not be unit length).
 int torus_crossings(const Torus& torus, const Ray& ray, double t[4]);
 
-// The nearest crossing in the open interval (ray.t_min, ray.t_max), or nothing.
-std::optional<double> intersect_torus(const Torus& torus, const Ray& ray);
+namespace detail {
+// intersect_torus past its bounding sphere test, given what that found.
+std::optional<double> intersect_torus_near(const Torus& torus, const Ray& ray, double inv_a, double t_foot,
+                                           const Vec3& f);
+}  // namespace detail
+
+// The nearest crossing in the open interval (ray.t_min, ray.t_max), or
+// nothing. Inline up to the bounding sphere (radius R + r) test, which is
+// intersect_sphere's: a ray that misses it costs what a sphere miss does.
+inline std::optional<double> intersect_torus(const Torus& torus, const Ray& ray) {
+  // The line's point nearest the center, f, without cancellation for far rays.
+  const Vec3 oc = ray.origin - torus.center;
+  const double inv_a = 1.0 / dot(ray.direction, ray.direction);
+  const double t_foot = -dot(oc, ray.direction) * inv_a;
+  const Vec3 f = oc + t_foot * ray.direction;
+  const double bound = torus.major_radius + torus.minor_radius;
+  if (!(dot(f, f) < bound * bound)) return std::nullopt;  // also a zero or non-finite direction
+  return detail::intersect_torus_near(torus, ray, inv_a, t_foot, f);
+}
 
 // Unit outward normal at a point on (or near) the surface: from the nearest
 // point of the center circle toward p.
