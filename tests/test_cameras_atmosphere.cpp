@@ -171,6 +171,12 @@ TEST(ThinLens, OneSampleIsThePinholeAndManyAreTheSameForAnyThreadCount) {
   const std::string blurred = balls(R"(, "samples_per_pixel": 16)", R"(, "aperture": 0.4, "focus_distance": 5)");
   const Image one = render_in(blurred, {}, 1), two = render_in(blurred, {}, 2);
   EXPECT_TRUE(same_bits(one, two));
+  // Tiles of another size (the unit of interrupt and resume): the same bits.
+  const Scene scene = parse_scene(blurred, "scene.json");
+  RenderOptions small_tiles;
+  small_tiles.threads = 2;
+  small_tiles.tile_size = 8;
+  EXPECT_TRUE(same_bits(render_image(scene, *build_accelerator(scene), small_tiles), two));
   EXPECT_FALSE(same_bits(one, render_in(balls(R"(, "samples_per_pixel": 16)", ""))));
 }
 

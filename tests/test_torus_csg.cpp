@@ -313,6 +313,32 @@ TEST(Csg, ShadowsPassThroughAHoleCut) {
   EXPECT_EQ(with("1.5"), 0.0f);
 }
 
+TEST(Csg, RefractionAndShadowsSeeOneSolid) {
+  // A glass sphere united with a smaller sphere inside it is the sphere
+  // alone: no face inside for refraction to bend at or a shadow to stop at.
+  const auto scene = [](const std::string& object) {
+    return parse_scene(R"({"render": {"width": 24, "height": 16, "max_depth": 8, "background": [0.2, 0.3, 0.4]},
+      "camera": {"position": [0, 1, 5], "look_at": [0, 0.5, 0], "fov_y": 40},
+      "materials": {"glass": {"ambient": 0, "diffuse": 0.05, "specular": 0.8, "transparency": 0.9, "ior": 1.5,
+                              "fresnel": true},
+                    "floor": {"diffuse": {"checker": {"even": 0.9, "odd": 0.1}}}},
+      "lights": [{"type": "ambient", "ambient": 0.2}, {"type": "point", "position": [1, 5, 2]}],
+      "objects": [{"type": "plane", "point": [0, -1, 0], "normal": [0, 1, 0], "material": "floor"}, )" +
+                           object + "]}",
+                       "scene.json");
+  };
+  const Scene alone = scene(R"({"type": "sphere", "center": [0, 0.5, 0], "radius": 1, "material": "glass"})");
+  const Scene united = scene(R"({"type": "csg", "operation": "union", "material": "glass", "children": [
+      {"type": "sphere", "center": [0, 0.5, 0], "radius": 1},
+      {"type": "sphere", "center": [0.2, 0.4, 0.1], "radius": 0.5}]})");
+  RenderOptions o;
+  o.threads = 2;
+  const Image a = render_image(alone, *build_accelerator(alone), o);
+  const Image b = render_image(united, *build_accelerator(united), o);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  for (size_t i = 0; i < a.rgb.size(); ++i) EXPECT_NEAR(a.rgb[i], b.rgb[i], 1e-5) << i;
+}
+
 TEST(CsgLoader, Errors) {
   const auto error_of = [](const std::string& object) {
     try {
