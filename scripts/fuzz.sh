@@ -13,10 +13,18 @@ MODE="${1:-5}"
 shift || true
 TARGETS=("$@")
 ALL=(fuzz_scene_loader fuzz_json fuzz_nff fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_gltf fuzz_mesh_glb
-     fuzz_texture_png fuzz_texture_jpg fuzz_texture_bmp fuzz_texture_tga fuzz_texture_hdr fuzz_texture_pfm fuzz_texture_exr)
-[ ${#TARGETS[@]} -eq 0 ] && TARGETS=("${ALL[@]}")
+     fuzz_texture_png fuzz_texture_jpg fuzz_texture_bmp fuzz_texture_tga fuzz_texture_hdr fuzz_texture_pfm fuzz_texture_exr
+     fuzz_serve_request)
+if [ ${#TARGETS[@]} -eq 0 ]; then
+  TARGETS=("${ALL[@]}")
+  # glint serve is optional (cpp-httplib): without it, so is its target.
+  if [ ! -x build-asan/fuzz/fuzz_serve_request ]; then
+    TARGETS=()
+    for t in "${ALL[@]}"; do [ "$t" = fuzz_serve_request ] || TARGETS+=("$t"); done
+  fi
+fi
 if [ "$MODE" = smoke ]; then
-  # 14 targets, 2 at a time on 2 cores: under 2 minutes in all; each
+  # 15 targets, 2 at a time on 2 cores: about 2 minutes in all; each
   # target's time includes its seeds.
   SECONDS_PER_TARGET=12
 else
@@ -43,6 +51,7 @@ fuzz_one() {
     fuzz_mesh_glb) seeds=(fuzz/corpus/glb); dict=fuzz/gltf.dict; regressions=fuzz/regressions/mesh ;;
     fuzz_texture_*) seeds=(fuzz/corpus/texture-"${target#fuzz_texture_}"); dict=fuzz/texture.dict
       regressions=fuzz/regressions/texture ;;
+    fuzz_serve_request) seeds=(fuzz/corpus/serve) ;;
   esac
   # New inputs go to a corpus kept in the build folder (the first directory);
   # the seeds and regressions in the repository are only read.
