@@ -26,9 +26,8 @@ namespace glint {
 int torus_crossings(const Torus& torus, const Ray& ray, double t[4]);
 
 namespace detail {
-// intersect_torus past its bounding sphere test, given what that found.
-std::optional<double> intersect_torus_near(const Torus& torus, const Ray& ray, double inv_a, double t_foot,
-                                           const Vec3& f);
+// intersect_torus for a line that passes through the bounding sphere.
+std::optional<double> intersect_torus_near(const Torus& torus, const Ray& ray);
 }  // namespace detail
 
 // The nearest crossing in the open interval (ray.t_min, ray.t_max), or
@@ -42,7 +41,7 @@ inline std::optional<double> intersect_torus(const Torus& torus, const Ray& ray)
   const Vec3 f = oc + t_foot * ray.direction;
   const double bound = torus.major_radius + torus.minor_radius;
   if (!(dot(f, f) < bound * bound)) return std::nullopt;  // also a zero or non-finite direction
-  return detail::intersect_torus_near(torus, ray, inv_a, t_foot, f);
+  return detail::intersect_torus_near(torus, ray);
 }
 
 // Unit outward normal at a point on (or near) the surface: from the nearest
