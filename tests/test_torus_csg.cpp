@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -227,6 +228,18 @@ TEST(Csg, NestedTransformsAtEveryLevelCompose) {
   EXPECT_EQ(f.leaf, 2u);
   const Found back = first_hit(s, {10, 2, 0}, {-1, 0, 0});
   EXPECT_NEAR(back.t, 8.5, 1e-12);
+}
+
+TEST(Csg, NonFiniteRaysEndTheirSweep) {
+  // Non-finite directions: no solid gives a span, and nothing is hit. (A
+  // NaN span end, which equals nothing, not even itself, still moves the
+  // sweep on: each group of equal ends holds at least its first.)
+  const Scene s = scene_of(std::string(R"({"type": "csg", "operation": "union", "children": [)") + kTwoSpheres + "]}");
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const Vec3& d : {Vec3(nan, 0, 0), Vec3(inf, 0, 0), Vec3(0, 0, 0)}) {
+    Ray ray{{-10, 0, 0}, d};
+    EXPECT_FALSE(intersect_csg(s.csgs[0], ray));
+  }
 }
 
 TEST(Csg, TorusChildAndClosedCylinderChild) {

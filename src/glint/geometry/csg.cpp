@@ -162,9 +162,10 @@ void operation_spans(const Csg& csg, const CsgNode& node, const Ray& ray, Spans&
   bool state = false;
   Boundary open{};
   for (size_t i = 0; i < ends.size();) {
-    size_t j = i;
-    for (; j < ends.size() && ends[j].t == ends[i].t; ++j) {
-      const End& e = ends[j];
+    size_t j = i + 1;  // the ends at ends[i].t are [i, j) (always one: a NaN equals nothing)
+    while (j < ends.size() && ends[j].t == ends[i].t) ++j;
+    for (size_t k = i; k < j; ++k) {
+      const End& e = ends[k];
       inside += e.entering ? 1 : 0;
       inside -= e.entering ? 0 : 1;
       if (e.child == 0) first_inside = e.entering ? 1 : 0;
