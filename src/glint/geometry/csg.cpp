@@ -219,16 +219,7 @@ Vec3 csg_leaf_normal(const CsgLeaf& leaf, int part, const Vec3& p) {
   switch (leaf.type) {
     case CsgLeafType::sphere: return normalize(p - leaf.sphere.center);
     case CsgLeafType::box: return box_face_normal(part);
-    case CsgLeafType::cone: {
-      const Cone& c = leaf.cone;
-      if (part == kConeBaseCap) return -c.axis;
-      if (part == kConeApexCap) return c.axis;
-      const Vec3 rel = p - c.base;
-      const Vec3 radial = rel - dot(rel, c.axis) * c.axis;
-      const double rl = length(radial);
-      const Vec3 out = rl > 0.0 ? radial / rl : c.ref_u;
-      return normalize(out - ((c.apex_radius - c.base_radius) / c.length) * c.axis);
-    }
+    case CsgLeafType::cone: return cone_normal(leaf.cone, part, p);
     case CsgLeafType::torus: return torus_normal(leaf.torus, p);
   }
   return {0, 1, 0};
@@ -241,12 +232,7 @@ Bounds3 csg_leaf_bounds(const CsgLeaf& leaf) {
       b = Bounds3{leaf.sphere.center - Vec3(leaf.sphere.radius), leaf.sphere.center + Vec3(leaf.sphere.radius)};
       break;
     case CsgLeafType::box: b = Bounds3{leaf.box.lo, leaf.box.hi}; break;
-    case CsgLeafType::cone: {
-      const Cone& c = leaf.cone;
-      const double r = std::max(c.base_radius, c.apex_radius);
-      b = Bounds3{min(c.base, c.apex) - Vec3(r), max(c.base, c.apex) + Vec3(r)};
-      break;
-    }
+    case CsgLeafType::cone: b = cone_bounds(leaf.cone); break;
     case CsgLeafType::torus: b = torus_bounds(leaf.torus); break;
   }
   return leaf.transform ? leaf.transform->bounds(b) : b;

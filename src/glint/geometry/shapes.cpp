@@ -241,4 +241,41 @@ std::optional<PolygonHit> intersect_polygon(const Polygon& polygon, const Ray& r
   return std::nullopt;
 }
 
+Vec3 cone_normal(const Cone& c, int part, const Vec3& p) {
+  if (part == kConeBaseCap) return -c.axis;
+  if (part == kConeApexCap) return c.axis;
+  const Vec3 rel = p - c.base;
+  const Vec3 radial = rel - dot(rel, c.axis) * c.axis;
+  const double rl = length(radial);
+  const Vec3 out = rl > 0.0 ? radial / rl : c.ref_u;
+  return normalize(out - ((c.apex_radius - c.base_radius) / c.length) * c.axis);
+}
+
+namespace {
+
+// Box around a disk of radius r centered at c with unit normal n: along axis
+// i it reaches r * sqrt(1 - n_i^2), padded a little against rounding so the
+// box never cuts the shape.
+void extend_disk(Bounds3& b, const Vec3& c, const Vec3& n, double r) {
+  Vec3 e;
+  for (int i = 0; i < 3; ++i) e[i] = r * std::sqrt(std::max(0.0, 1.0 - n[i] * n[i])) * (1.0 + 1e-12);
+  b.extend(c - e);
+  b.extend(c + e);
+}
+
+}  // namespace
+
+Bounds3 cone_bounds(const Cone& c) {
+  Bounds3 b;
+  extend_disk(b, c.base, c.axis, c.base_radius);
+  extend_disk(b, c.apex, c.axis, c.apex_radius);
+  return b;
+}
+
+Bounds3 disk_bounds(const Disk& d) {
+  Bounds3 b;
+  extend_disk(b, d.center, d.normal, d.radius);
+  return b;
+}
+
 }  // namespace glint

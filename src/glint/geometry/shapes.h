@@ -68,8 +68,15 @@ struct ConeHit {
 // where side and cap meet therefore always finds one of them (no crack);
 // an open shape keeps only the quadric's ends that lie in the slab.
 std::optional<ConeHit> intersect_cone(const Cone& cone, const Ray& ray);
+// The unit outward normal at p (cone space) of the part hit: a cap's axis
+// direction away from the solid, or the side's gradient (across the axis,
+// tilted by the slope).
+Vec3 cone_normal(const Cone& cone, int part, const Vec3& p);
+// Cone-space bounds: the two end disks' boxes.
+Bounds3 cone_bounds(const Cone& cone);
 
 std::optional<double> intersect_disk(const Disk& disk, const Ray& ray);
+Bounds3 disk_bounds(const Disk& disk);
 
 // A polygon through its triangles (watertight triangle test, so the
 // triangulation's shared edges let no ray through).

@@ -191,9 +191,11 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel)
   }
 }
 
-Color Integrator::miss_color(const Ray& ray) const {
+Color Integrator::miss_color(const Ray& ray, UV* uv) const {
   if (!scene_.render.environment) return scene_.render.background;
-  return sample_environment(scene_, *scene_.render.environment, ray.direction).color;
+  const EnvironmentLookup e = sample_environment(scene_, *scene_.render.environment, ray.direction);
+  if (uv) *uv = UV{e.u, e.v};
+  return e.color;
 }
 
 double Integrator::fog_factor(const Ray& ray, double t) const {
@@ -264,7 +266,7 @@ CameraSample Integrator::cast_camera_ray_with_hit(const Ray& ray, const std::opt
   if (scene_.render.fog) {
     const double f = fog_factor(ray, hit->t);
     const Color haze = (1.0 - f) * scene_.render.fog->color;
-    out.color = f * out.color + haze;
+    out.color = fogged(out.color, f);
     for (Color* term : {&out.terms.ambient, &out.terms.diffuse, &out.terms.specular, &out.terms.reflection,
                         &out.terms.transmission})
       *term = f * *term;
@@ -338,17 +340,14 @@ void Integrator::cast_batch(const Ray* rays, const std::optional<Hit>* hits, int
   if (n > 0) shade_batch<MaxN>(rays, hits, points, n, depth, ctx, recs, terms.data());
   for (int i = 0; i < count; ++i) {
     if (!hits[i]) {
-      colors[i] = scene_.render.background;
-      if (scene_.render.environment) {
-        const EnvironmentLookup e = sample_environment(scene_, *scene_.render.environment, rays[i].direction);
-        colors[i] = e.color;
-        recs[i].environment(UV{e.u, e.v});
-      }
+      UV uv;
+      colors[i] = miss_color(rays[i], &uv);
+      if (scene_.render.environment) recs[i].environment(uv);
     } else {
       colors[i] = terms[i].sum();
-      if (scene_.render.fog) {  // f C + (1 - f) c, for every ray that hits
+      if (scene_.render.fog) {  // for every ray that hits
         const double f = fog_factor(rays[i], hits[i]->t);
-        colors[i] = f * colors[i] + (1.0 - f) * scene_.render.fog->color;
+        colors[i] = fogged(colors[i], f);
         recs[i].fog(f);
       }
     }

@@ -148,10 +148,12 @@ class Integrator {
 
   double epsilon() const { return epsilon_; }
   // What a ray that hits nothing returns: the background, or the environment
-  // in its direction.
-  Color miss_color(const Ray& ray) const;
+  // in its direction (its lookup's (u, v) into `uv`, when given).
+  Color miss_color(const Ray& ray, UV* uv = nullptr) const;
   // Fog's f for a hit at distance t along `ray` (1: no fog).
   double fog_factor(const Ray& ray, double t) const;
+  // f C + (1 - f) fog color.
+  Color fogged(const Color& c, double f) const { return f * c + (1.0 - f) * scene_.render.fog->color; }
 
  private:
   // The formula's control flow, written once (integrator.cpp), for a batch

@@ -43,17 +43,14 @@ void cone_geometry(const Cone& c, int part, const Vec3& p_obj, const Transform* 
   const Vec3 radial = rel - h * c.axis;
   const double rl = length(radial);
   if (part == kConeBaseCap || part == kConeApexCap) {
-    const bool apex = part == kConeApexCap;
-    to_world(xf, (apex ? c.apex : c.base) + radial, apex ? c.axis : -c.axis, sp);
+    to_world(xf, (part == kConeApexCap ? c.apex : c.base) + radial, cone_normal(c, part, p_obj), sp);
     return;
   }
   const double k = (c.apex_radius - c.base_radius) / c.length;
   const double hc = std::clamp(h, 0.0, c.length);
-  // The side's gradient: across the axis, tilted by the slope k (against the
-  // axis where the cone narrows toward the apex).
-  Vec3 out = rl > 0.0 ? radial / rl : c.ref_u;
+  const Vec3 out = rl > 0.0 ? radial / rl : c.ref_u;
   const Vec3 p_side = c.base + hc * c.axis + (c.base_radius + k * hc) * out;
-  to_world(xf, rl > 0.0 ? p_side : p_obj, normalize(out - k * c.axis), sp);
+  to_world(xf, rl > 0.0 ? p_side : p_obj, cone_normal(c, part, p_obj), sp);
 }
 
 // A polygon's hit: the point on the triangle that was hit, the polygon's

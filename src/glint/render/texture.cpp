@@ -43,21 +43,26 @@ Color texel(const TextureImage& image, int x, int y) {
   return to_vec3(image.texels[static_cast<size_t>(y) * static_cast<size_t>(image.width) + static_cast<size_t>(x)]);
 }
 
+// The bilinear blend of the four texels around continuous texel coordinates
+// (x, y) (texel centers at whole numbers, y down from the top row), each
+// axis wrapped by its own mode.
+Color bilinear(const TextureImage& image, double x, double y, TextureWrap wrap_x, TextureWrap wrap_y) {
+  const double x0 = std::floor(x), y0 = std::floor(y);
+  const double fx = x - x0, fy = y - y0;
+  const auto ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
+  const int xa = wrap_texel(ix, image.width, wrap_x), xb = wrap_texel(ix + 1, image.width, wrap_x);
+  const int ya = wrap_texel(iy, image.height, wrap_y), yb = wrap_texel(iy + 1, image.height, wrap_y);
+  const Color top = (1.0 - fx) * texel(image, xa, ya) + fx * texel(image, xb, ya);
+  const Color bottom = (1.0 - fx) * texel(image, xa, yb) + fx * texel(image, xb, yb);
+  return (1.0 - fy) * top + fy * bottom;
+}
+
 }  // namespace
 
 Color sample_image(const TextureImage& image, double u, double v, TextureWrap wrap) {
   if (image.width <= 0 || image.height <= 0) return Color(0.0);
-  // Continuous texel coordinates, texel centers at whole numbers.
-  const double x = reduce(u, wrap) * image.width - 0.5;
-  const double y = (1.0 - reduce(v, wrap)) * image.height - 0.5;
-  const double x0 = std::floor(x), y0 = std::floor(y);
-  const double fx = x - x0, fy = y - y0;
-  const auto ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
-  const int xa = wrap_texel(ix, image.width, wrap), xb = wrap_texel(ix + 1, image.width, wrap);
-  const int ya = wrap_texel(iy, image.height, wrap), yb = wrap_texel(iy + 1, image.height, wrap);
-  const Color top = (1.0 - fx) * texel(image, xa, ya) + fx * texel(image, xb, ya);
-  const Color bottom = (1.0 - fx) * texel(image, xa, yb) + fx * texel(image, xb, yb);
-  return (1.0 - fy) * top + fy * bottom;
+  return bilinear(image, reduce(u, wrap) * image.width - 0.5, (1.0 - reduce(v, wrap)) * image.height - 0.5, wrap,
+                  wrap);
 }
 
 Color evaluate_texture(const Scene& scene, const Texture& texture, UV uv) {
@@ -82,18 +87,9 @@ EnvironmentLookup sample_environment(const Scene& scene, const Environment& envi
   out.u = u;
   out.v = std::acos(std::clamp(d.y, -1.0, 1.0)) / std::numbers::pi;
   if (image.width <= 0 || image.height <= 0) return out;
-  // Texel centers at whole numbers; u wraps around the sphere, v stops at the poles.
-  const double x = out.u * image.width - 0.5, y = out.v * image.height - 0.5;
-  const double x0 = std::floor(x), y0 = std::floor(y);
-  const double fx = x - x0, fy = y - y0;
-  const auto ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
-  const int xa = wrap_texel(ix, image.width, TextureWrap::repeat);
-  const int xb = wrap_texel(ix + 1, image.width, TextureWrap::repeat);
-  const int ya = wrap_texel(iy, image.height, TextureWrap::clamp);
-  const int yb = wrap_texel(iy + 1, image.height, TextureWrap::clamp);
-  const Color top = (1.0 - fx) * texel(image, xa, ya) + fx * texel(image, xb, ya);
-  const Color bottom = (1.0 - fx) * texel(image, xa, yb) + fx * texel(image, xb, yb);
-  out.color = environment.scale * ((1.0 - fy) * top + fy * bottom);
+  // u wraps around the sphere, v stops at the poles (row 0 is straight up).
+  out.color = environment.scale * bilinear(image, out.u * image.width - 0.5, out.v * image.height - 0.5,
+                                           TextureWrap::repeat, TextureWrap::clamp);
   return out;
 }
 

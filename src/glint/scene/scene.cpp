@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "glint/geometry/csg.h"
+#include "glint/geometry/shapes.h"
 #include "glint/geometry/torus.h"
 
 namespace glint {
@@ -127,20 +128,6 @@ uint32_t add_mesh_object(Scene& scene, uint32_t mesh, uint32_t material, bool sm
   return index;
 }
 
-namespace {
-
-// Box around a disk of radius r centered at c with unit normal n: along axis
-// i it reaches r * sqrt(1 - n_i^2), padded a little against rounding so the
-// box never cuts the shape.
-void extend_disk(Bounds3& b, const Vec3& c, const Vec3& n, double r) {
-  Vec3 e;
-  for (int i = 0; i < 3; ++i) e[i] = r * std::sqrt(std::max(0.0, 1.0 - n[i] * n[i])) * (1.0 + 1e-12);
-  b.extend(c - e);
-  b.extend(c + e);
-}
-
-}  // namespace
-
 Bounds3 object_bounds(const Scene& scene, uint32_t index) {
   const Object& object = scene.objects[index];
   Bounds3 b;
@@ -164,17 +151,8 @@ Bounds3 object_bounds(const Scene& scene, uint32_t index) {
     }
     case ShapeType::mesh: b = scene.meshes[object.shape].bounds; break;
     case ShapeType::cylinder:
-    case ShapeType::cone: {
-      const Cone& c = scene.cones[object.shape];
-      extend_disk(b, c.base, c.axis, c.base_radius);
-      extend_disk(b, c.apex, c.axis, c.apex_radius);
-      break;
-    }
-    case ShapeType::disk: {
-      const Disk& d = scene.disks[object.shape];
-      extend_disk(b, d.center, d.normal, d.radius);
-      break;
-    }
+    case ShapeType::cone: b = cone_bounds(scene.cones[object.shape]); break;
+    case ShapeType::disk: b = disk_bounds(scene.disks[object.shape]); break;
     case ShapeType::polygon: b = scene.polygons[object.shape].bounds; break;
     case ShapeType::torus: b = torus_bounds(scene.tori[object.shape]); break;
     case ShapeType::csg: b = scene.csgs[object.shape].bounds; break;
