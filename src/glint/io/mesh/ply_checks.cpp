@@ -77,6 +77,12 @@ PlyHeader read_ply_header(std::string_view data, const std::string& file) {
   for (;;) {
     if (!lines.next(line)) fail(file, "PLY header has no end_header line (in its first MiB)");
     const int n = lines.number();
+    // A carriage return inside a line (not before its '\n'): this reader
+    // ends the line there, assimp reads on, and the two saw different
+    // headers (assimp then crashed in its binary reader: fuzz_mesh_ply).
+    const size_t line_end = static_cast<size_t>(line.data() - data.data()) + line.size();
+    if (line_end < data.size() && data[line_end] == '\r' && (line_end + 1 >= data.size() || data[line_end + 1] != '\n'))
+      fail(file, "PLY header line has a carriage return inside it", n);
     const std::vector<Token> tok = tokens_of(line);
     if (tok.empty()) continue;
     const std::string_view key = tok[0].text;
